@@ -1,0 +1,12 @@
+# Debian 12 ships SuiteSparse 5.x without CMake package files: find the pieces by hand.
+find_path(SUITESPARSE_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+set(_ss_libs)
+foreach(lib umfpack cholmod amd camd colamd ccolamd suitesparseconfig)
+  find_library(SUITESPARSE_${lib}_LIBRARY ${lib} REQUIRED)
+  list(APPEND _ss_libs ${SUITESPARSE_${lib}_LIBRARY})
+endforeach()
+find_package(BLAS REQUIRED)
+find_package(LAPACK REQUIRED)
+add_library(fibrane_suitesparse INTERFACE)
+target_include_directories(fibrane_suitesparse SYSTEM INTERFACE ${SUITESPARSE_INCLUDE_DIR})
+target_link_libraries(fibrane_suitesparse INTERFACE ${_ss_libs} ${LAPACK_LIBRARIES} ${BLAS_LIBRARIES})
