@@ -1,0 +1,27 @@
+// The fibrane command line: `fibrane run CASE.yaml`, `fibrane law ...`, `fibrane study ...`.
+#include <iostream>
+
+#include "commands.hpp"
+#include "common/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"fibrane: van der Waals interactions between beams and shells"};
+  app.set_version_flag("--version", std::string("fibrane ") + FIBRANE_VERSION);
+  app.require_subcommand(1);
+  fibrane::app::register_run_command(app);
+  fibrane::app::register_law_command(app);
+  fibrane::app::register_study_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  } catch (const fibrane::InputError& e) {
+    std::cerr << "fibrane: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "fibrane: failed: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}
