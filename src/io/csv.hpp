@@ -1,0 +1,41 @@
+#pragma once
+// History CSV that grows by one row per step and is valid on disk after every row: each row is
+// formatted in memory and handed to the OS with a single append write, so a killed run leaves at worst
+// a file that ends after the last complete row. Numbers use the shortest text that reads back to the
+// identical double (std::to_chars), i.e. full precision without noise digits.
+#include <string>
+#include <vector>
+
+namespace fibrane::io {
+
+// Shortest decimal text that parses back to exactly `value` ("nan", "inf", "-inf" for non-finite).
+std::string format_double(double value);
+
+// Quotes a CSV field if it contains a comma, quote or line break (RFC 4180).
+std::string csv_field(const std::string& text);
+
+class CsvWriter {
+ public:
+  // Creates (truncates) `path` and writes the header line.
+  CsvWriter(std::string path, std::vector<std::string> columns);
+  ~CsvWriter();
+  CsvWriter(const CsvWriter&) = delete;
+  CsvWriter& operator=(const CsvWriter&) = delete;
+
+  // Appends one row; values.size() must equal the number of columns (std::invalid_argument otherwise).
+  void row(const std::vector<double>& values);
+
+  const std::vector<std::string>& columns() const { return columns_; }
+  const std::string& path() const { return path_; }
+  std::size_t rows_written() const { return rows_; }
+
+ private:
+  void write_line(const std::string& line);
+
+  std::string path_;
+  std::vector<std::string> columns_;
+  int fd_ = -1;
+  std::size_t rows_ = 0;
+};
+
+}  // namespace fibrane::io
