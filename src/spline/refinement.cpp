@@ -1,0 +1,143 @@
+#include "spline/refinement.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "spline/basis.hpp"
+
+namespace fibrane::spline {
+
+HomogeneousPoints to_homogeneous(const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<double>& weights) {
+  HomogeneousPoints hom(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    hom[i].head<3>() = weights[i] * points[i];
+    hom[i][3] = weights[i];
+  }
+  return hom;
+}
+
+void from_homogeneous(const HomogeneousPoints& hom, std::vector<Eigen::Vector3d>& points,
+                      std::vector<double>& weights) {
+  points.resize(hom.size());
+  weights.resize(hom.size());
+  for (std::size_t i = 0; i < hom.size(); ++i) {
+    weights[i] = hom[i][3];
+    points[i] = hom[i].head<3>() / hom[i][3];
+  }
+}
+
+namespace {
+
+// One Boehm insertion of u into span k = find_span(u):
+//   Q_i = P_i                                  i <= k - p
+//   Q_i = a_i P_i + (1 - a_i) P_{i-1}          k - p + 1 <= i <= k,  a_i = (u - t_i)/(t_{i+p} - t_i)
+//   Q_i = P_{i-1}                              i >= k + 1
+// (for u equal to an existing knot the last alphas are 0 and reproduce P_{i-1}).
+HomogeneousCurve insert_once(const HomogeneousCurve& curve, double u) {
+  const KnotVector& kv = curve.knots;
+  const int p = kv.degree();
+  const std::vector<double>& t = kv.knots();
+  const int k = kv.find_span(u);
+  const int n = kv.num_basis();
+  HomogeneousPoints q(n + 1);
+  for (int i = 0; i <= k - p; ++i) q[i] = curve.points[i];
+  for (int i = k - p + 1; i <= k; ++i) {
+    const double a = (u - t[i]) / (t[i + p] - t[i]);
+    q[i] = a * curve.points[i] + (1.0 - a) * curve.points[i - 1];
+  }
+  for (int i = k + 1; i <= n; ++i) q[i] = curve.points[i - 1];
+  std::vector<double> knots = t;
+  knots.insert(knots.begin() + k + 1, u);
+  return {KnotVector(p, std::move(knots)), std::move(q)};
+}
+
+}  // namespace
+
+HomogeneousCurve insert_knot(const HomogeneousCurve& curve, double u, int times) {
+  const KnotVector& kv = curve.knots;
+  if (times < 0) throw std::invalid_argument("insert_knot: times must be >= 0");
+  const double tol = kv.tolerance();
+  if (!(u > kv.front() + tol && u < kv.back() - tol)) {
+    std::ostringstream msg;
+    msg << "insert_knot: " << u << " is not strictly inside (" << kv.front() << ", " << kv.back() << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  for (double k : kv.knots())
+    if (std::abs(k - u) <= tol) u = k;  // snap: keep equal knots bit-identical
+  if (kv.multiplicity(u) + times > kv.degree()) {
+    std::ostringstream msg;
+    msg << "insert_knot: inserting " << u << " " << times << " times gives multiplicity "
+        << kv.multiplicity(u) + times << " > degree " << kv.degree();
+    throw std::invalid_argument(msg.str());
+  }
+  HomogeneousCurve result = curve;
+  for (int r = 0; r < times; ++r) result = insert_once(result, u);
+  return result;
+}
+
+HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by) {
+  if (by < 0) throw std::invalid_argument("elevate_degree: `by` must be >= 0");
+  if (by == 0) return curve;
+  const KnotVector& old_kv = curve.knots;
+  const int p = old_kv.degree();
+  const int new_p = p + by;
+  std::vector<double> knots;
+  for (double value : old_kv.unique_knots())
+    knots.insert(knots.end(), old_kv.multiplicity(value) + by, value);
+  KnotVector new_kv(new_p, std::move(knots));
+
+  // Evaluate the old curve at the Greville abscissae xi_i = (t_{i+1} + ... + t_{i+p}) / p of the new
+  // knots and solve N(xi) Q = C(xi).
+  const int n = new_kv.num_basis();
+  const std::vector<double>& t = new_kv.knots();
+  Eigen::MatrixXd collocation = Eigen::MatrixXd::Zero(n, n);
+  Eigen::MatrixXd rhs(n, 4);
+  for (int i = 0; i < n; ++i) {
+    double xi = 0.0;
+    for (int m = 1; m <= new_p; ++m) xi += t[i + m];
+    xi /= new_p;
+    const int new_span = new_kv.find_span(xi);
+    const Eigen::MatrixXd new_basis = bspline_basis_derivs(new_kv, new_span, xi, 0);
+    for (int j = 0; j <= new_p; ++j) collocation(i, new_span - new_p + j) = new_basis(0, j);
+    const int old_span = old_kv.find_span(xi);
+    const Eigen::MatrixXd old_basis = bspline_basis_derivs(old_kv, old_span, xi, 0);
+    Eigen::Vector4d value = Eigen::Vector4d::Zero();
+    for (int j = 0; j <= p; ++j) value += old_basis(0, j) * curve.points[old_span - p + j];
+    rhs.row(i) = value.transpose();
+  }
+  const Eigen::MatrixXd solution = collocation.partialPivLu().solve(rhs);
+  HomogeneousPoints q(n);
+  for (int i = 0; i < n; ++i) q[i] = solution.row(i).transpose();
+  // The end points are interpolated exactly by both curves; copy them to avoid any round-off there.
+  q.front() = curve.points.front();
+  q.back() = curve.points.back();
+  return {std::move(new_kv), std::move(q)};
+}
+
+std::vector<std::pair<double, int>> uniform_insertions(const KnotVector& kv, int continuity,
+                                                       int n_elements) {
+  std::vector<std::pair<double, int>> insertions;
+  const double a = kv.front(), b = kv.back();
+  const int target = kv.degree() - continuity;
+  for (int k = 1; k < n_elements; ++k) {
+    const double u = a + (b - a) * k / n_elements;
+    const int missing = target - kv.multiplicity(u);
+    if (missing > 0) insertions.emplace_back(u, missing);
+  }
+  return insertions;
+}
+
+void check_refine_request(int current_degree, int degree, int continuity, int n_elements) {
+  if (degree < current_degree)
+    throw std::invalid_argument("refine: degree " + std::to_string(degree) + " is below the current " +
+                                std::to_string(current_degree) + " (degree reduction is not supported)");
+  if (continuity < 0 || continuity >= degree)
+    throw std::invalid_argument("refine: continuity must be in [0, degree-1], got " +
+                                std::to_string(continuity));
+  if (n_elements < 1) throw std::invalid_argument("refine: n_elements must be >= 1");
+}
+
+}  // namespace fibrane::spline

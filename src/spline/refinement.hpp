@@ -1,0 +1,47 @@
+#pragma once
+// Knot insertion and degree elevation of B-spline curves with homogeneous control points
+// (w x, w y, w z, w). A NURBS curve is the projection of such a polynomial B-spline curve in 4D, so
+// refining in homogeneous coordinates refines the NURBS geometry exactly. Surfaces apply these row by
+// row (tensor product).
+#include <Eigen/Dense>
+#include <utility>
+#include <vector>
+
+#include "spline/knot_vector.hpp"
+
+namespace fibrane::spline {
+
+using HomogeneousPoints = std::vector<Eigen::Vector4d>;
+
+struct HomogeneousCurve {
+  KnotVector knots;
+  HomogeneousPoints points;  // knots.num_basis() of them
+};
+
+// (w x, w y, w z, w) <-> (x, y, z), w.
+HomogeneousPoints to_homogeneous(const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<double>& weights);
+void from_homogeneous(const HomogeneousPoints& hom, std::vector<Eigen::Vector3d>& points,
+                      std::vector<double>& weights);
+
+// Boehm's algorithm, applied `times` times. u must lie strictly inside the domain; a u within the knot
+// tolerance of an existing knot is snapped onto it. Throws std::invalid_argument if the resulting
+// multiplicity would exceed the degree.
+HomogeneousCurve insert_knot(const HomogeneousCurve& curve, double u, int times = 1);
+
+// Raises the degree by `by` (>= 0). Every distinct knot gains `by` in multiplicity, so the continuity
+// at each knot is preserved. Method: the elevated spline space contains the curve, so its control
+// points are the unique interpolant of the curve at the Greville abscissae of the new knot vector
+// (Schoenberg-Whitney holds there); the collocation system is small, banded and well conditioned.
+HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by = 1);
+
+// Knot insertions (value, times) for uniform h-refinement of a spline of degree `degree` on the knots
+// `kv` (already of that degree): each grid value a + (b-a) k / n_elements, k = 1..n-1, is brought to
+// multiplicity degree - continuity, counting the multiplicity it already has and never lowering it.
+std::vector<std::pair<double, int>> uniform_insertions(const KnotVector& kv, int continuity,
+                                                       int n_elements);
+
+// Checks shared by NurbsCurve::refine and NurbsSurface::refine; throws std::invalid_argument.
+void check_refine_request(int current_degree, int degree, int continuity, int n_elements);
+
+}  // namespace fibrane::spline
