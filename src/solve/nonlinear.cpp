@@ -1,0 +1,56 @@
+#include "solve/nonlinear.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace fibrane::solve {
+
+NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
+                          LinearSolver& solver) {
+  if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
+  NewtonReport rep;
+  double scale = 0.0;
+  for (int it = 0;; ++it) {
+    sys.evaluate(q, t, true);
+    const Eigen::VectorXd& r = sys.residual();
+    const double norm = r.norm();
+    rep.residual_norm = norm;
+    rep.history.push_back(norm);
+    if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t, it, norm);
+    if (!std::isfinite(norm)) {
+      rep.failure = "non-finite residual at iteration " + std::to_string(it);
+      return rep;
+    }
+    if (it == 0) scale = std::max(norm, sys.residual_scale());
+    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute)) {
+      rep.converged = true;
+      return rep;
+    }
+    if (norm > opt.divergence_factor * scale) {
+      rep.failure = "diverged at iteration " + std::to_string(it) + " (|r| = " + std::to_string(norm) + ")";
+      return rep;
+    }
+    if (it >= opt.max_iterations) {
+      rep.failure = "no convergence in " + std::to_string(opt.max_iterations) + " iterations (|r| = " +
+                    std::to_string(norm) + ")";
+      return rep;
+    }
+    const Eigen::SparseMatrix<double>& k = sys.tangent();
+    solver.analyze_if_needed(k, sys.pattern_version());
+    if (!solver.factorize(k)) {
+      rep.failure = "factorization failed (" + solver.name() + ") at iteration " + std::to_string(it);
+      return rep;
+    }
+    const Eigen::VectorXd dq = solver.solve(-r);
+    if (!dq.allFinite()) {
+      rep.failure = "non-finite Newton update at iteration " + std::to_string(it);
+      return rep;
+    }
+    q += dq;
+    rep.iterations = it + 1;
+  }
+}
+
+}  // namespace fibrane::solve

@@ -1,0 +1,50 @@
+#pragma once
+// Newton-Raphson for the reduced equilibrium equations r(q, t) = 0 (paper Sec. 2.3: the discretised
+// Eq. (7) is solved by Newton's method inside each continuation increment).
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+
+#include "solve/linear_solver.hpp"
+
+namespace fibrane::solve {
+
+// What Newton and continuation need from a model.
+class NonlinearSystem {
+ public:
+  virtual ~NonlinearSystem() = default;
+  virtual int size() const = 0;                                    // number of free unknowns q
+  virtual void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) = 0;
+  virtual const Eigen::VectorXd& residual() const = 0;             // reduced residual at the last evaluate
+  virtual const Eigen::SparseMatrix<double>& tangent() const = 0;  // reduced tangent d residual / dq
+  virtual int pattern_version() const = 0;                         // solver re-analyses when it changes
+  virtual bool symmetric() const { return true; }
+  virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
+  virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
+};
+
+struct NewtonOptions {
+  int max_iterations = 20;
+  double tol_relative = 1e-9;
+  double tol_absolute = 1e-12;
+  bool verbose = false;               // one line per iteration on stderr
+  double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
+};
+
+struct NewtonReport {
+  bool converged = false;
+  int iterations = 0;          // number of linear solves (updates of q)
+  double residual_norm = 0;    // at the last evaluation
+  std::vector<double> history; // ||r|| at every evaluation, the first before any update
+  std::string failure;         // empty when converged
+};
+
+// Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()).
+// Fails (converged = false, message in failure) on: iteration limit, non-finite residual or update,
+// divergence, failed factorisation. q then holds the last iterate; the caller restores it if needed.
+NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
+                          LinearSolver& solver);
+
+}  // namespace fibrane::solve
