@@ -1,5 +1,6 @@
 #include "spline/refinement.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -114,6 +115,13 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by) {
   // The end points are interpolated exactly by both curves; copy them to avoid any round-off there.
   q.front() = curve.points.front();
   q.back() = curve.points.back();
+  // A polynomial (all weights equal) stays polynomial: the constant weight function has constant
+  // coefficients in any spline space, so set them exactly instead of keeping solver round-off.
+  const double w0 = curve.points.front()[3];
+  const bool constant_weight = std::all_of(curve.points.begin(), curve.points.end(),
+                                           [&](const Eigen::Vector4d& h) { return h[3] == w0; });
+  if (constant_weight)
+    for (Eigen::Vector4d& h : q) h[3] = w0;
   return {std::move(new_kv), std::move(q)};
 }
 
