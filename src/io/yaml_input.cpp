@@ -20,7 +20,12 @@ struct YamlNode::Document {
   std::string file;
   // Keys requested per map path. Keyed by path (not by node object) so that every copy of a node and
   // every re-lookup of the same map share one record.
-  std::map<std::string, std::set<std::string>> read_keys;
+  struct ReadMap {
+    YAML::Node node;
+    int line = 0;
+    std::set<std::string> keys;
+  };
+  std::map<std::string, ReadMap> read_maps;
 };
 
 namespace {
@@ -65,7 +70,8 @@ std::optional<std::string> closest(const std::string& word, const std::vector<st
   std::size_t best_distance = std::max<std::size_t>(1, word.size() / 3) + 1;
   for (const auto& candidate : known) {
     const std::size_t d = edit_distance(word, candidate);
-    if (d < best_distance) {
+    // A short word with every letter changed is no typo ('d' is not a misspelt 'b').
+    if (d < best_distance && d < std::max(word.size(), candidate.size())) {
       best_distance = d;
       best = candidate;
     }
@@ -159,7 +165,14 @@ void YamlNode::require_map() const {
   if (!node_.IsMap()) fail("a map");
 }
 
-void YamlNode::mark_read(const std::string& key) const { doc_->read_keys[path_].insert(key); }
+void YamlNode::mark_read(const std::string& key) const {
+  Document::ReadMap& record = doc_->read_maps[path_];
+  if (record.keys.empty()) {
+    record.node = node_;
+    record.line = line_;
+  }
+  record.keys.insert(key);
+}
 
 int YamlNode::key_line(const std::string& key) const {
   for (const auto& entry : node_) {
@@ -317,10 +330,17 @@ void YamlNode::reject_keys_outside(const std::vector<std::string>& known) const 
 }
 
 void YamlNode::reject_unknown_keys() const {
-  const auto it = doc_->read_keys.find(path_);
+  const auto it = doc_->read_maps.find(path_);
   std::vector<std::string> known;
-  if (it != doc_->read_keys.end()) known.assign(it->second.begin(), it->second.end());
+  if (it != doc_->read_maps.end()) known.assign(it->second.keys.begin(), it->second.keys.end());
   reject_keys_outside(known);
+}
+
+void YamlNode::reject_unknown_keys_everywhere() const {
+  // Maps are visited in path order, so the first error reported is deterministic.
+  for (const auto& [path, record] : doc_->read_maps) {
+    YamlNode(doc_, record.node, path, record.line).reject_unknown_keys();
+  }
 }
 
 void YamlNode::expect_keys(std::initializer_list<std::string_view> allowed) const {

@@ -7,6 +7,15 @@
 // Reading is strict: numbers must be plain (unquoted) finite scalars, integers must have no fractional
 // part, booleans are exactly true/false, duplicate keys are rejected at load time, and a map whose keys
 // were not all read can be rejected with reject_unknown_keys() ("did you mean ...?").
+//
+// Typical use:
+//   const YamlNode root = YamlNode::load_file(path);
+//   const YamlNode material = root["shell"]["material"];
+//   const double young = material["young"].positive();
+//   const double poisson = material["poisson"].in_range(-1.0, 0.5, true, true);
+//   const double density = material.get("density", 1.0);
+//   ...
+//   root.reject_unknown_keys_everywhere();   // or material.reject_unknown_keys() per map
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
@@ -72,6 +81,9 @@ class YamlNode {
   // Strict schema: every key of this map never read through this node or any other node for the same
   // path is an error: "unknown key 'thicknes' (did you mean 'thickness'?)". Call after reading a map.
   void reject_unknown_keys() const;
+  // The same check for every map of the document that was read from (through any node): one call after
+  // the whole case has been read. Maps never read from are not checked; their own key is, in the parent.
+  void reject_unknown_keys_everywhere() const;
   // Alternative: the allowed keys are listed explicitly.
   void expect_keys(std::initializer_list<std::string_view> allowed) const;
 

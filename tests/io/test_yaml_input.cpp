@@ -149,6 +149,20 @@ TEST(YamlInput, UnknownKeySuggestsTheClosestReadKey) {
   time.reject_unknown_keys();
 }
 
+TEST(YamlInput, UnknownKeysEverywhereChecksEveryReadMap) {
+  const YamlNode root = YamlNode::load_string("a:\n  b:\n    c: 1\n    cc: 2\n  d: 3\ne: 4\n", "u.yaml");
+  root["a"]["b"]["c"].as_int();
+  root["e"].as_int();
+  // Map "a" is fine only once 'd' is read; map "a.b" still has the unread 'cc'.
+  EXPECT_EQ(error_of([&] { root.reject_unknown_keys_everywhere(); }),
+            "u.yaml:5: a: unknown key 'd' (expected one of 'b')");
+  root["a"].get("d", 0);
+  EXPECT_EQ(error_of([&] { root.reject_unknown_keys_everywhere(); }),
+            "u.yaml:4: a.b: unknown key 'cc' (did you mean 'c'?)");
+  root["a"]["b"]["cc"];
+  root.reject_unknown_keys_everywhere();
+}
+
 TEST(YamlInput, SyntaxErrorsAndMissingFilesNameTheFile) {
   testing::ScratchDir dir;
   const std::string path = dir.file("broken.yaml");
