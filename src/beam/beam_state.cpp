@@ -1,5 +1,6 @@
 // Initial quadrature-point states of the undeformed beam axis (Sec. 3.2.1): tangent T, directors
 // A2, A3, their xi-derivatives, and the reference strain measures K_1, A_1,1.A_alpha (Eqs. 37-38).
+#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
 
