@@ -13,9 +13,11 @@ int main(int argc, char** argv) {
   fibrane::app::register_study_command(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {
+    return e.get_exit_code();  // a run that stopped early has already said why
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    return code == 0 ? 0 : 2;  // usage errors are bad input
   } catch (const fibrane::InputError& e) {
     std::cerr << "fibrane: error: " << e.what() << "\n";
     return 2;

@@ -1,6 +1,35 @@
-// Placeholder until the 'run' subcommand lands.
+// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet]`
+#include <iostream>
+#include <memory>
+
 #include "commands.hpp"
+#include "model/run.hpp"
 
 namespace fibrane::app {
-void register_run_command(CLI::App& app) { app.add_subcommand("run", "(not yet available)"); }
+
+void register_run_command(CLI::App& app) {
+  struct Options {
+    std::string case_file;
+    model::RunOptions run;
+  };
+  auto opt = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
+  cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
+  cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
+  cmd->add_option("--threads", opt->run.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
+  cmd->callback([opt]() {
+    // Reading the whole case first: bad input stops here, before any output file exists.
+    model::Case c = model::read_case(opt->case_file);
+    const auto s = model::run_case(c, opt->run);
+    std::cout << "fibrane: " << (s.result.completed ? "completed" : "stopped") << " at t = " << s.result.t_reached
+              << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
+              << s.wall_seconds << " s; results in " << s.directory << "\n";
+    if (!s.result.completed) {
+      std::cerr << "fibrane: " << s.result.message << "\n";
+      throw CLI::RuntimeError(1);
+    }
+  });
+}
+
 }  // namespace fibrane::app
