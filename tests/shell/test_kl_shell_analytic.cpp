@@ -116,8 +116,7 @@ TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
   EXPECT_NEAR(f.M_local(0, 1), 0.0, tol);
   EXPECT_NEAR(f.M(0, 0) * g1.squaredNorm(), m, tol);  // contravariant M^11 times |G_1|^2 = |g_1|^2
   EXPECT_LT(f.N.cwiseAbs().maxCoeff(), 1e-9 * s.young * s.thickness);
-  // The kernel's energy is the bending energy D/2 (1/rho^2)(1 + 0) per unit area... with the nu term:
-  // psi = (1/2) (m_11 k_11 + m_22 k_22) = (1/2) m / rho * inward (k_22 = 0).
+  // Energy per unit reference area: psi = (1/2)(m_11 kappa_11 + m_22 kappa_22) = D / (2 rho^2), kappa_22 = 0.
   double energy = 0.0;
   add_shell_point(s, R, X, x, 1.0, &energy, nullptr, nullptr);
   const double area_jacobian = (X * R.row(1).transpose()).cross(X * R.row(2).transpose()).norm();
