@@ -1,0 +1,166 @@
+#include "model/beam_body.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "solve/assembler.hpp"
+#include "solve/dof_map.hpp"
+#include "spline/quadrature.hpp"
+
+namespace fibrane::model {
+
+namespace {
+beam::BasisDerivs basis_matrix(const spline::CurveBasis& b) { return b.R.topRows(3); }
+}  // namespace
+
+BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eigen::Vector3d d)
+    : name(std::move(n)), curve(std::move(c)), section(s), director(d) {
+  const auto& kv = curve.knots();
+  const int p = curve.degree();
+  for (int span : kv.element_spans()) {
+    BeamElement e;
+    e.span = span;
+    e.xi0 = kv.knots()[span];
+    e.xi1 = kv.knots()[span + 1];
+    for (int a = 0; a <= p; ++a) e.control_points.push_back(span - p + a);
+    elements.push_back(std::move(e));
+  }
+  if (director.norm() == 0.0) build_rotation_minimising_frame();
+}
+
+void BeamBody::build_rotation_minimising_frame() {
+  // Double reflection (Wang et al. 2008) on a fine sampling of the axis; a2 between samples is the
+  // sample value projected onto the local normal plane, which is accurate to the sampling error.
+  const int samples = 64 * static_cast<int>(elements.size()) + 1;
+  const double a = curve.knots().front(), b = curve.knots().back();
+  rmf_xi_.resize(samples);
+  rmf_a2_.resize(samples);
+  Eigen::Vector3d t0 = curve.derivative(a, 1).normalized();
+  Eigen::Vector3d seed = std::abs(t0.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  if (std::abs(t0.z()) < std::abs(t0.dot(seed))) seed = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d r = (seed - seed.dot(t0) * t0).normalized();
+  Eigen::Vector3d x0 = curve.point(a);
+  rmf_xi_[0] = a;
+  rmf_a2_[0] = r;
+  for (int i = 1; i < samples; ++i) {
+    const double xi = a + (b - a) * i / (samples - 1);
+    const Eigen::Vector3d x1 = curve.point(xi), t1 = curve.derivative(xi, 1).normalized();
+    const Eigen::Vector3d v1 = x1 - x0;
+    const double c1 = v1.squaredNorm();
+    Eigen::Vector3d rl = r, tl = t0;
+    if (c1 > 0) {
+      rl = r - (2.0 / c1) * v1.dot(r) * v1;
+      tl = t0 - (2.0 / c1) * v1.dot(t0) * v1;
+    }
+    const Eigen::Vector3d v2 = t1 - tl;
+    const double c2 = v2.squaredNorm();
+    r = c2 > 0 ? Eigen::Vector3d(rl - (2.0 / c2) * v2.dot(rl) * v2) : rl;
+    r = (r - r.dot(t1) * t1).normalized();
+    rmf_xi_[i] = xi;
+    rmf_a2_[i] = r;
+    x0 = x1;
+    t0 = t1;
+  }
+}
+
+Eigen::Vector3d BeamBody::reference_director(double xi) const {
+  const Eigen::Vector3d t = curve.derivative(xi, 1).normalized();
+  Eigen::Vector3d d = director;
+  if (director.norm() == 0.0) {
+    const auto it = std::lower_bound(rmf_xi_.begin(), rmf_xi_.end(), xi);
+    const std::size_t i = std::min<std::size_t>(it - rmf_xi_.begin(), rmf_xi_.size() - 1);
+    d = rmf_a2_[i];
+  }
+  return (d - d.dot(t) * t).normalized();
+}
+
+int BeamBody::element_of(double xi) const {
+  const int span = curve.knots().find_span(xi);
+  for (std::size_t e = 0; e < elements.size(); ++e)
+    if (elements[e].span == span) return static_cast<int>(e);
+  return static_cast<int>(elements.size()) - 1;
+}
+
+beam::BeamPointState BeamBody::state_at(double xi) const {
+  const auto b = curve.basis(xi, 2);
+  const auto& cps = elements[element_of(xi)].control_points;
+  Eigen::Matrix3Xd X(3, cps.size());
+  for (std::size_t a = 0; a < cps.size(); ++a) X.col(a) = curve.control_points()[cps[a]];
+  return beam::make_point_state(basis_matrix(b), X, reference_director(xi));
+}
+
+void BeamBody::initialise_states() {
+  const auto g = spline::gauss_legendre(gauss());
+  states.assign(elements.size(), {});
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const auto& el = elements[e];
+    for (double gp : g.points) {
+      const double xi = el.xi0 + 0.5 * (gp + 1.0) * (el.xi1 - el.xi0);
+      states[e].push_back(state_at(xi));
+    }
+  }
+}
+
+std::vector<std::vector<int>> BeamBody::element_dofs(const solve::DofMap& dofs) const {
+  std::vector<std::vector<int>> out;
+  for (const auto& el : elements) {
+    std::vector<int> d;
+    for (int cp : el.control_points)
+      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(block, cp, c));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+beam::BeamDofs BeamBody::current(const std::vector<int>& cps, const Eigen::VectorXd& u,
+                                 const solve::DofMap& dofs) const {
+  beam::BeamDofs q(4, cps.size());
+  for (std::size_t a = 0; a < cps.size(); ++a) {
+    q.col(a).head<3>() = curve.control_points()[cps[a]];
+    for (int c = 0; c < 4; ++c) q(c, a) += u[dofs.dof(block, cps[a], c)];
+  }
+  return q;
+}
+
+double BeamBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
+                          int first_element, bool with_tangent) const {
+  const auto g = spline::gauss_legendre(gauss());
+  const int n_elements = static_cast<int>(elements.size());
+  double energy = 0.0;
+#pragma omp parallel reduction(+ : energy)
+  {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd k;
+#pragma omp for schedule(dynamic, 8)
+    for (int e = 0; e < n_elements; ++e) {
+      const auto& el = elements[e];
+      const beam::BeamDofs q = current(el.control_points, u, dofs);
+      const int n = 4 * static_cast<int>(el.control_points.size());
+      r.setZero(n);
+      if (with_tangent) k.setZero(n, n);
+      const double j = 0.5 * (el.xi1 - el.xi0);
+      for (std::size_t i = 0; i < g.points.size(); ++i) {
+        const double xi = el.xi0 + (g.points[i] + 1.0) * j;
+        const auto b = curve.basis(xi, 2);
+        beam::add_beam_point(section, basis_matrix(b), q, states[e][i], g.weights[i] * j, &energy, &r,
+                             with_tangent ? &k : nullptr);
+      }
+      a.add(first_element + e, r, with_tangent ? &k : nullptr);
+    }
+  }
+  return energy;
+}
+
+void BeamBody::accept(const Eigen::VectorXd& u, const solve::DofMap& dofs) {
+  const auto g = spline::gauss_legendre(gauss());
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    const auto& el = elements[e];
+    const beam::BeamDofs q = current(el.control_points, u, dofs);
+    for (std::size_t i = 0; i < g.points.size(); ++i) {
+      const double xi = el.xi0 + 0.5 * (g.points[i] + 1.0) * (el.xi1 - el.xi0);
+      beam::update_point_state(states[e][i], basis_matrix(curve.basis(xi, 2)), q);
+    }
+  }
+}
+
+}  // namespace fibrane::model

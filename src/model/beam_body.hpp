@@ -1,0 +1,59 @@
+#pragma once
+// A Bernoulli-Euler beam body: a refined NURBS axis with a twist field on the same basis (4 DOFs per
+// control point: x, y, z, phi), the section, and the per-quadrature-point frame states of the
+// smallest-rotation map that are updated after every converged step (Sec. 3.2).
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "beam/beam.hpp"
+#include "spline/curve.hpp"
+
+namespace fibrane::solve {
+class DofMap;
+class SparseAssembler;
+}  // namespace fibrane::solve
+
+namespace fibrane::model {
+
+struct BeamElement {
+  int span;
+  double xi0, xi1;
+  std::vector<int> control_points;
+};
+
+struct BeamBody {
+  std::string name;
+  spline::NurbsCurve curve;  // reference axis after refinement
+  beam::BeamSection section;
+  Eigen::Vector3d director = Eigen::Vector3d::Zero();  // a2 hint; zero: rotation-minimising frame
+  int block = -1;
+  int gauss_points = 0;  // 0 means degree + 1
+  std::vector<BeamElement> elements;
+  std::vector<std::vector<beam::BeamPointState>> states;  // [element][quadrature point]
+
+  BeamBody(std::string name, spline::NurbsCurve curve, beam::BeamSection section, Eigen::Vector3d director);
+  int num_control_points() const { return curve.num_control_points(); }
+  int gauss() const { return gauss_points > 0 ? gauss_points : curve.degree() + 1; }
+  // Builds the reference triads at every quadrature point (call after gauss_points is final).
+  void initialise_states();
+  std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const;
+  beam::BeamDofs current(const std::vector<int>& cps, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
+  double assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
+                  int first_element, bool with_tangent) const;
+  // Incremental update of the frame references after a converged step.
+  void accept(const Eigen::VectorXd& u, const solve::DofMap& dofs);
+  // Frame state of an arbitrary parameter (for point moments), consistent with initialise_states().
+  beam::BeamPointState state_at(double xi) const;
+  int element_of(double xi) const;
+  // Reference director a2 at parameter xi (user vector or rotation-minimising frame).
+  Eigen::Vector3d reference_director(double xi) const;
+
+ private:
+  // Rotation-minimising frame sampled densely along the axis (double reflection), for reference_director.
+  std::vector<double> rmf_xi_;
+  std::vector<Eigen::Vector3d> rmf_a2_;
+  void build_rotation_minimising_frame();
+};
+
+}  // namespace fibrane::model

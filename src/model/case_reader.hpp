@@ -1,0 +1,37 @@
+#pragma once
+// Reads a YAML case file (docs/case-format.md) into a Model plus the run settings. Bad input throws
+// fibrane::InputError naming the file, line, key and what was expected; nothing is written before the
+// whole case has been read and checked.
+#include <memory>
+#include <string>
+
+#include "model/model.hpp"
+#include "solve/continuation.hpp"
+#include "solve/nonlinear.hpp"
+
+namespace fibrane::model {
+
+struct OutputSettings {
+  std::string directory;  // relative paths are relative to the working directory
+  bool vtk = true;
+  int vtk_every = 1;      // write VTK every n-th converged step (and always the last)
+  int samples = 4;        // sampling points per element edge for VTK
+};
+
+struct RunSettings {
+  solve::StepControl steps;
+  solve::NewtonOptions newton;
+  std::string linear_solver = "auto";
+};
+
+struct Case {
+  std::string path;
+  std::string name;  // file name without extension
+  std::unique_ptr<Model> model;
+  RunSettings run;
+  OutputSettings output;
+};
+
+Case read_case(const std::string& path);
+
+}  // namespace fibrane::model

@@ -1,0 +1,44 @@
+#include "model/run.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <iostream>
+#include <sstream>
+
+#include "io/progress.hpp"
+#include "model/results.hpp"
+#include "solve/linear_solver.hpp"
+
+namespace fibrane::model {
+
+RunSummary run_case(Case& c, const RunOptions& options) {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+  Model& m = *c.model;
+  RunSummary summary;
+  summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
+  RunOutput out(c, summary.directory);
+  auto solver = solve::make_linear_solver(c.run.linear_solver, m.symmetric());
+
+  Eigen::VectorXd q = m.initial_unknowns();
+  m.evaluate(q, c.run.steps.t_start, false);
+  out.write_step(m, solve::StepReport{0, c.run.steps.t_start, 0.0, 0, m.residual().norm(), 0, {}}, true);
+
+  std::ostringstream quiet_sink;
+  io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
+                                            : io::ProgressLine(c.run.steps.t_end);
+  const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
+  summary.result = solve::run_continuation(
+      m, q, c.run.steps, c.run.newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+        out.write_step(m, r, r.t >= t_last);
+        progress.update(r.step, r.t, r.iterations, r.residual_norm);
+        return true;
+      });
+  progress.finish(summary.result.completed ? "done" : "stopped: " + summary.result.message);
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
+  return summary;
+}
+
+}  // namespace fibrane::model

@@ -1,0 +1,92 @@
+#include "model/shell_body.hpp"
+
+#include <omp.h>
+
+#include "solve/assembler.hpp"
+#include "solve/dof_map.hpp"
+#include "spline/quadrature.hpp"
+
+namespace fibrane::model {
+
+ShellBody::ShellBody(std::string n, spline::NurbsSurface s, shell::ShellSection sec)
+    : name(std::move(n)), surface(std::move(s)), section(sec) {
+  elements = surface.elements();
+  element_control_points.reserve(elements.size());
+  for (const auto& e : elements) {
+    const double uc = 0.5 * (e.u0 + e.u1), vc = 0.5 * (e.v0 + e.v1);
+    element_control_points.push_back(surface.basis_in(e.span_u, e.span_v, uc, vc).indices);
+  }
+}
+
+std::vector<std::vector<int>> ShellBody::element_dofs(const solve::DofMap& dofs) const {
+  std::vector<std::vector<int>> out;
+  out.reserve(elements.size());
+  for (const auto& cps : element_control_points) {
+    std::vector<int> d;
+    d.reserve(3 * cps.size());
+    for (int cp : cps)
+      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(block, cp, c));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+Eigen::Matrix3Xd ShellBody::reference(const std::vector<int>& cps) const {
+  Eigen::Matrix3Xd X(3, cps.size());
+  for (std::size_t a = 0; a < cps.size(); ++a) X.col(a) = surface.control_points()[cps[a]];
+  return X;
+}
+
+Eigen::Matrix3Xd ShellBody::current(const std::vector<int>& cps, const Eigen::VectorXd& u,
+                                    const solve::DofMap& dofs) const {
+  Eigen::Matrix3Xd x = reference(cps);
+  for (std::size_t a = 0; a < cps.size(); ++a)
+    for (int c = 0; c < 3; ++c) x(c, a) += u[dofs.dof(block, cps[a], c)];
+  return x;
+}
+
+double ShellBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
+                           int first_element, bool with_tangent) const {
+  const auto gu = spline::gauss_legendre(gauss(0));
+  const auto gv = spline::gauss_legendre(gauss(1));
+  const int n_elements = static_cast<int>(elements.size());
+  double energy = 0.0;
+#pragma omp parallel reduction(+ : energy)
+  {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd k;
+#pragma omp for schedule(dynamic, 16)
+    for (int e = 0; e < n_elements; ++e) {
+      const auto& el = elements[e];
+      const auto& cps = element_control_points[e];
+      const Eigen::Matrix3Xd X = reference(cps);
+      const Eigen::Matrix3Xd x = current(cps, u, dofs);
+      const int n = 3 * static_cast<int>(cps.size());
+      r.setZero(n);
+      if (with_tangent) k.setZero(n, n);
+      const double ju = 0.5 * (el.u1 - el.u0), jv = 0.5 * (el.v1 - el.v0);
+      for (std::size_t j = 0; j < gv.points.size(); ++j) {
+        const double pv = el.v0 + (gv.points[j] + 1.0) * jv;
+        for (std::size_t i = 0; i < gu.points.size(); ++i) {
+          const double pu = el.u0 + (gu.points[i] + 1.0) * ju;
+          const auto basis = surface.basis_in(el.span_u, el.span_v, pu, pv);
+          const double w = gu.weights[i] * gv.weights[j] * ju * jv;
+          shell::add_shell_point(section, basis.R, X, x, w, &energy, &r, with_tangent ? &k : nullptr);
+        }
+      }
+      a.add(first_element + e, r, with_tangent ? &k : nullptr);
+    }
+  }
+  return energy;
+}
+
+Eigen::Vector3d ShellBody::displacement(double pu, double pv, const Eigen::VectorXd& u,
+                                        const solve::DofMap& dofs) const {
+  const auto basis = surface.basis(pu, pv);
+  Eigen::Vector3d d = Eigen::Vector3d::Zero();
+  for (std::size_t a = 0; a < basis.indices.size(); ++a)
+    for (int c = 0; c < 3; ++c) d[c] += basis.R(0, a) * u[dofs.dof(block, basis.indices[a], c)];
+  return d;
+}
+
+}  // namespace fibrane::model
