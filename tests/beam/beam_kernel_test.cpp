@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <sstream>
+#include <string>
 
 #include "beam/beam.hpp"
 #include "beam_test_geometry.hpp"
@@ -41,6 +43,12 @@ Eigen::MatrixXd fd_jacobian(const VectorFunction& f, const BeamDofs& q) {
     J.col(i) = (f(qp) - f(qm)) / (2 * kStep);
   }
   return J;
+}
+
+std::string scientific(double v) {
+  std::ostringstream out;
+  out << std::scientific << v;
+  return out.str();
 }
 
 double relative_error(const Eigen::MatrixXd& analytic, const Eigen::MatrixXd& fd) {
@@ -86,7 +94,9 @@ TEST_P(BeamKernelFd, ResidualMatchesEnergyDifferences) {
   add_beam_point(s, c.R, c.q, c.state, weight, &e_with_residual, &residual, nullptr);
   EXPECT_GT(e_with_residual, 0.0);
   EXPECT_NEAR(e_with_residual, energy(c.q), 1e-14 * e_with_residual);  // both code paths agree
-  EXPECT_LT(relative_error(residual, fd_gradient(energy, c.q)), kTolerance);
+  const double error = relative_error(residual, fd_gradient(energy, c.q));
+  RecordProperty("relative_error", scientific(error));
+  EXPECT_LT(error, kTolerance);
 }
 
 TEST_P(BeamKernelFd, TangentMatchesResidualDifferences) {
@@ -100,7 +110,9 @@ TEST_P(BeamKernelFd, TangentMatchesResidualDifferences) {
   };
   Eigen::MatrixXd K;
   add_beam_point(s, c.R, c.q, c.state, 1.3, nullptr, nullptr, &K);
-  EXPECT_LT(relative_error(K, fd_jacobian(residual_at, c.q)), kTolerance);
+  const double error = relative_error(K, fd_jacobian(residual_at, c.q));
+  RecordProperty("relative_error", scientific(error));
+  EXPECT_LT(error, kTolerance);
   EXPECT_LT((K - K.transpose()).cwiseAbs().maxCoeff(), 1e-12 * K.cwiseAbs().maxCoeff());
 }
 
@@ -115,7 +127,9 @@ TEST_P(BeamKernelFd, FixedMomentLoadStiffnessMatchesDifferences) {
   };
   Eigen::MatrixXd K;
   add_point_moment(M, c.R, c.q, c.state, nullptr, &K);
-  EXPECT_LT(relative_error(K, fd_jacobian(residual_at, c.q)), kTolerance);
+  const double error = relative_error(K, fd_jacobian(residual_at, c.q));
+  RecordProperty("relative_error", scientific(error));
+  EXPECT_LT(error, kTolerance);
 }
 
 TEST_P(BeamKernelFd, FollowerMomentLoadStiffnessMatchesDifferences) {
@@ -129,7 +143,9 @@ TEST_P(BeamKernelFd, FollowerMomentLoadStiffnessMatchesDifferences) {
   };
   Eigen::MatrixXd K;
   add_follower_point_moment(m, c.R, c.q, c.state, nullptr, &K);
-  EXPECT_LT(relative_error(K, fd_jacobian(residual_at, c.q)), kTolerance);
+  const double error = relative_error(K, fd_jacobian(residual_at, c.q));
+  RecordProperty("relative_error", scientific(error));
+  EXPECT_LT(error, kTolerance);
 }
 
 INSTANTIATE_TEST_SUITE_P(RandomStates, BeamKernelFd,

@@ -100,12 +100,12 @@ TEST(BeamPhysics, PureTorsion) {
   EXPECT_NEAR(energy, 0.5 * torque * theta, 1e-12 * torque * theta);
 }
 
-// Pure bending of a straight beam into a circular arc of radius rho in the x-y plane with the
-// parametrisation speed preserved: curvature change 1/rho reported for bending about a3.
-TEST(BeamPhysics, CircularArcCurvature) {
+// Straight beam (unit speed, A = 1) bent in the x-y plane with control points on a circle of radius
+// rho: the reported curvature change about a3 must equal a times the geometric curvature
+// (r' x r'').z / |r'|^3 of the interpolated current curve (kappa_3 = a k_3, Eq. 43), with no torsion,
+// no bending about a2, and eps11 = (a - A) / (2A).
+TEST(BeamPhysics, PlanarCurvatureMatchesGeometry) {
   const double rho = 0.8;
-  // Quadratic Bezier arc of opening 2 alpha is not an exact circle; instead sample the curvature of
-  // the interpolated current curve directly and compare with the geometric curvature |r' x r''|/|r'|^3.
   const int p = 3;
   Eigen::Matrix3Xd X(3, p + 1);
   BeamDofs q(4, p + 1);
