@@ -205,7 +205,8 @@ void SparseAssembler::end() {
   auto reduce = [&](const Buffer& b) {
     if (!b.used) return;
     if (with_matrix_) {
-#pragma omp parallel for schedule(static)
+      // A parallel region costs microseconds (milliseconds on an oversubscribed machine): only for big arrays.
+#pragma omp parallel for schedule(static) if (nnz > 200000)
       for (Eigen::Index i = 0; i < nnz; ++i) values[i] += b.values[static_cast<size_t>(i)];
     }
     for (size_t i = 0; i < b.residual.size(); ++i) full_residual_[static_cast<Eigen::Index>(i)] += b.residual[i];

@@ -79,7 +79,7 @@ class SpringNetwork : public NonlinearSystem {
     u_ = constraints_.expand(q, t, curves_);
     assembler_.begin(with_tangent);
     const int n_bars = static_cast<int>(bars_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n_bars > parallel_threshold_)
     for (int e = 0; e < n_bars; ++e) {
       const Bar& bar = bars_[static_cast<size_t>(e)];
       Eigen::VectorXd r;
@@ -113,6 +113,7 @@ class SpringNetwork : public NonlinearSystem {
   SparseAssembler& assembler() { return assembler_; }
   const Eigen::VectorXd& displacements() const { return u_; }  // full u at the last evaluate
   int accepted() const { return accepted_; }
+  void set_parallel_threshold(int bars) { parallel_threshold_ = bars; }
 
  private:
   double curve(int id, double t) const { return id < 0 ? 1.0 : curves_(id, t); }
@@ -129,6 +130,7 @@ class SpringNetwork : public NonlinearSystem {
   SparseAssembler assembler_;
   Eigen::VectorXd u_;
   int accepted_ = 0;
+  int parallel_threshold_ = 64;  // tiny networks: thread start-up costs more than the work
 };
 
 }  // namespace fibrane::solve::testing

@@ -1,0 +1,152 @@
+// Newton-Raphson on spring networks assembled through the real ConstraintSet/SparseAssembler.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "solve/nonlinear.hpp"
+#include "spring_network.hpp"
+
+namespace fibrane::solve {
+namespace {
+
+using testing::Bar;
+using testing::PointLoad;
+using testing::SpringNetwork;
+
+// Chain of n saturating bars along x, node 0 fixed, all y fixed, end load F in x.
+SpringNetwork make_chain(int n, double load, double saturation = 1.0) {
+  std::vector<Eigen::Vector2d> nodes;
+  for (int i = 0; i <= n; ++i) nodes.emplace_back(i, 0.0);
+  std::vector<Bar> bars;
+  for (int i = 0; i < n; ++i) bars.push_back({i, i + 1, 1.0 + 0.1 * i, saturation});
+  ConstraintSet cs;
+  cs.fix(0);
+  for (int i = 0; i <= n; ++i) cs.fix(2 * i + 1);
+  return SpringNetwork(nodes, bars, cs, {{2 * n, load, 0}});
+}
+
+// Analytical chain response: every bar carries the load, k d tanh(e/d) = F  =>  e = d atanh(F / (k d)).
+double chain_tip_displacement(int n, double load, double saturation = 1.0) {
+  double tip = 0;
+  for (int i = 0; i < n; ++i) {
+    const double k = 1.0 + 0.1 * i;
+    tip += saturation * std::atanh(load / (k * saturation));
+  }
+  return tip;
+}
+
+TEST(SpringNetwork, TangentAndResidualMatchFiniteDifferences) {
+  // A triangle with an MPC and a prescribed value so T and g are non-trivial; q is off-equilibrium.
+  ConstraintSet cs;
+  cs.fix(0);
+  cs.fix(1, 0.2, 0);
+  cs.add({5, {{2, 0.5}, {3, -0.3}}, 0.1, -1});
+  SpringNetwork net({{0, 0}, {1, 0.1}, {0.4, 0.9}}, {{0, 1, 2.0, 0.3}, {1, 2, 1.0, 0.5}, {0, 2, 1.5, 0.0}}, cs,
+                    {{2, 0.3, 0}});
+  const Eigen::VectorXd q = Eigen::Vector3d(0.05, -0.1, 0.07);
+  const double t = 0.8;
+  net.evaluate(q, t, true);
+  const Eigen::VectorXd r = net.residual();
+  const Eigen::MatrixXd k(net.tangent());
+  // Central differences with h = 1e-5: truncation O(h^2) ~ 1e-10 times third derivatives of O(10),
+  // round-off ~ 1e-16 / 1e-5 ~ 1e-11; tolerance 1e-8 leaves margin and still catches any wrong term.
+  const double h = 1e-5;
+  for (int j = 0; j < 3; ++j) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[j] += h;
+    qm[j] -= h;
+    EXPECT_NEAR((net.energy(qp, t) - net.energy(qm, t)) / (2 * h), r[j], 1e-8) << "residual " << j;
+    net.evaluate(qp, t, false);
+    const Eigen::VectorXd rp = net.residual();
+    net.evaluate(qm, t, false);
+    const Eigen::VectorXd fd = (rp - net.residual()) / (2 * h);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(fd[i], k(i, j), 1e-8) << "tangent " << i << "," << j;
+  }
+}
+
+TEST(Newton, ConvergesQuadraticallyToTheAnalyticalChain) {
+  const int n = 6;
+  const double load = 0.8;  // 80 % of the weakest bar's force limit k d = 1: strongly nonlinear
+  SpringNetwork chain = make_chain(n, load);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(chain.size());
+  auto solver = make_linear_solver("auto", true);
+  NewtonOptions opt;
+  opt.tol_relative = 1e-13;
+  const NewtonReport rep = newton_solve(chain, q, 1.0, opt, *solver);
+  ASSERT_TRUE(rep.converged) << rep.failure;
+  // Converged to 1e-13 of the load: displacement error ~ 1e-13 / (min tangent 0.36): allow 1e-11.
+  EXPECT_NEAR(chain.displacements()[2 * n], chain_tip_displacement(n, load), 1e-11);
+  // Order estimate p = log(r_{k+1}/r_k) / log(r_k/r_{k-1}) on the last iterates above round-off (1e-12):
+  // quadratic convergence gives p -> 2; a wrong tangent gives p ~ 1.
+  const auto& h = rep.history;
+  ASSERT_GE(h.size(), 4u);
+  int checked = 0;
+  for (size_t k = 1; k + 1 < h.size(); ++k) {
+    if (h[k + 1] < 1e-12 || h[k] > 1e-2) continue;  // asymptotic regime only
+    const double p = std::log(h[k + 1] / h[k]) / std::log(h[k] / h[k - 1]);
+    EXPECT_GT(p, 1.8) << "iteration " << k;
+    ++checked;
+  }
+  EXPECT_GE(checked, 1);
+  EXPECT_EQ(static_cast<int>(h.size()), rep.iterations + 1);
+}
+
+TEST(Newton, ReactionsBalanceTheExternalLoad) {
+  const double load = 0.5;
+  SpringNetwork chain = make_chain(4, load);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(chain.size());
+  auto solver = make_linear_solver("cholmod", true);
+  NewtonOptions opt;
+  opt.tol_relative = 1e-12;
+  ASSERT_TRUE(newton_solve(chain, q, 1.0, opt, *solver).converged);
+  chain.evaluate(q, 1.0, false);
+  // r = f_int - f_ext; at a support it is the force the support must supply: -F in x at node 0,
+  // zero in y. Tolerance: converged to 1e-12 * F.
+  const Eigen::VectorXd& r = chain.assembler().full_residual();
+  EXPECT_NEAR(r[0], -load, 1e-11);
+  for (int dof : chain.constraints().constrained_dofs())
+    if (dof != 0) {
+      EXPECT_NEAR(r[dof], 0.0, 1e-11) << dof;
+    }
+}
+
+// A system that returns NaN once q leaves a bounded region, to exercise the non-finite guard.
+class PoisonedChain : public SpringNetwork {
+ public:
+  using SpringNetwork::SpringNetwork;
+  void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override {
+    SpringNetwork::evaluate(q, t, with_tangent);
+    nan_residual_ = SpringNetwork::residual();
+    if (q.cwiseAbs().maxCoeff() > 0.1) nan_residual_[0] = std::nan("");
+  }
+  const Eigen::VectorXd& residual() const override { return nan_residual_; }
+
+ private:
+  Eigen::VectorXd nan_residual_;
+};
+
+TEST(Newton, ReportsFailuresInsteadOfReturningGarbage) {
+  auto solver = make_linear_solver("auto", true);
+  // Load above the force limit of the weakest bar (k d = 1): no equilibrium exists.
+  SpringNetwork impossible = make_chain(3, 1.2);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(impossible.size());
+  NewtonOptions opt;
+  opt.max_iterations = 15;
+  const NewtonReport rep = newton_solve(impossible, q, 1.0, opt, *solver);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_FALSE(rep.failure.empty());
+
+  std::vector<Eigen::Vector2d> nodes = {{0, 0}, {1, 0}};
+  ConstraintSet cs;
+  cs.fix(0);
+  cs.fix(1);
+  cs.fix(3);
+  PoisonedChain poisoned(nodes, {{0, 1, 1.0, 0.0}}, cs, {{2, 0.5, 0}});
+  Eigen::VectorXd q1 = Eigen::VectorXd::Zero(1);
+  const NewtonReport bad = newton_solve(poisoned, q1, 1.0, NewtonOptions{}, *solver);
+  EXPECT_FALSE(bad.converged);
+  EXPECT_NE(bad.failure.find("non-finite"), std::string::npos) << bad.failure;
+}
+
+}  // namespace
+}  // namespace fibrane::solve
