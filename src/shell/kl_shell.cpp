@@ -23,7 +23,7 @@ struct NodeTerms {
   double r1, r2;                   // R_1A, R_2A
   Eigen::Matrix3d membrane;        // columns: d(E11, E22, 2E12)/du_A
   Eigen::Vector3d bending;         // (c11, c22, 2 c12): d(K11, K22, 2K12)/du_A = bending * n^T
-  Eigen::Matrix3d membrane_stiff;  // membrane * (h D): d(N^11, N^22, N^12)/du_A, transposed
+  Eigen::Matrix3d membrane_stiff;  // membrane * (h D); column i: d(N^11, N^22, N^12)_i / du_A
   Eigen::Vector3d bending_stiff;   // (h^3/12) D bending: d(M^11, M^22, M^12)/du_A along n
   Eigen::Vector3d v;               // R_1A g^1 + R_2A g^2
   double moment_work;              // M^ab c_abA, summed with the Voigt factor 2 on 12
@@ -101,7 +101,8 @@ void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::M
     const NodeTerms& a = nodes[A];
     for (Eigen::Index B = A; B < nen; ++B) {
       const NodeTerms& b = nodes[B];
-      // Material part: dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1).
+      // Material part: dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1); the bending part is along n n^T,
+      // as is the b_ab (v_A . v_B) term of M^ab d2b_ab.
       Eigen::Matrix3d kab;
       kab.noalias() = a.membrane_stiff * b.membrane.transpose();
       const double normal_coeff = a.bending_stiff.dot(b.bending) - moment_curvature * a.v.dot(b.v);
@@ -109,7 +110,7 @@ void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::M
       const double isotropic = N[0] * a.r1 * b.r1 + N[1] * a.r2 * b.r2 + N[2] * (a.r1 * b.r2 + a.r2 * b.r1);
       kab += normal_coeff * nn;
       kab.diagonal().array() += isotropic;
-      // Geometric part from the moments, M^ab d2b_ab (Eq. A8).
+      // Remaining geometric part from the moments, M^ab d2b_ab (Eq. A8).
       kab.noalias() -= (a.moment_work * b.v) * n.transpose() + (b.moment_work * n) * a.v.transpose();
       tangent->block<3, 3>(3 * A, 3 * B) += scale * kab;
       if (B != A) tangent->block<3, 3>(3 * B, 3 * A) += scale * kab.transpose();
