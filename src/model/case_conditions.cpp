@@ -139,20 +139,20 @@ void read_constraint(Model& m, const io::YamlNode& entry) {
     if (!at.has("edge") && !at.has("end")) sym->fail_message("symmetry needs 'at: {edge: ...}' or 'at: {end: ...}'");
     const int n = component(b, *sym);
     if (n > 2) sym->fail("the normal of the symmetry plane: x, y or z");
-    // The boundary row stays in the plane; for a C1 spline the next row moves with it, so the surface
-    // (or the beam axis) meets the plane at a right angle.
+    // Mirror symmetry: the boundary row stays in the plane, and the surface (or beam axis) crosses the
+    // plane at a right angle. For a C1 spline with an open knot vector the cross-boundary derivative is
+    // proportional to (row 1 - row 0), so the components tangent to the plane are tied between the rows.
+    std::vector<int> in_plane;
+    for (int c = 0; c < 3; ++c)
+      if (c != n) in_plane.push_back(c);
     for (int cp : boundary_row(m, b, at, 0)) m.constraints.fix(m.dofs.dof(b.block, cp, n));
+    tie_rows(m, b, at, in_plane);
     if (b.is_beam) {
-      std::vector<int> in_plane;
-      for (int c = 0; c < 3; ++c)
-        if (c != n) in_plane.push_back(c);
-      tie_rows(m, b, at, in_plane);
       // Circular sections make a uniform twist a zero-energy mode: the plane fixes the gauge phi = 0,
-      // and phi is even about the plane, so the next twist value follows.
+      // and phi is even about the plane (a rotation about the plane normal is a mirror-invariant
+      // pseudovector component), so the next twist value follows.
       for (int cp : boundary_row(m, b, at, 0)) m.constraints.fix(m.dofs.dof(b.block, cp, 3));
       tie_rows(m, b, at, {3});
-    } else {
-      tie_rows(m, b, at, {n});
     }
     any = true;
   }

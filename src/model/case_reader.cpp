@@ -118,6 +118,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
   if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
   s.max_steps = node->get("max_steps", s.max_steps);
+  run.linear = node->get("linear", run.linear);
   s.extrapolate = node->get("extrapolate", s.extrapolate);
   run.newton.max_iterations = node->get("max_iterations", run.newton.max_iterations);
   run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);

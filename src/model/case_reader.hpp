@@ -22,6 +22,7 @@ struct RunSettings {
   solve::StepControl steps;
   solve::NewtonOptions newton;
   std::string linear_solver = "auto";
+  bool linear = false;  // one Newton step from the reference state at t_end: the linearised problem
 };
 
 struct Case {

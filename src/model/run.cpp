@@ -5,6 +5,7 @@
 #include <chrono>
 #include <iostream>
 #include <sstream>
+#include <stdexcept>
 
 #include "io/progress.hpp"
 #include "model/results.hpp"
@@ -28,6 +29,20 @@ RunSummary run_case(Case& c, const RunOptions& options) {
   std::ostringstream quiet_sink;
   io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
                                             : io::ProgressLine(c.run.steps.t_end);
+  if (c.run.linear) {
+    // The linearised problem: one Newton step from the reference configuration at full load.
+    const double t = c.run.steps.t_end;
+    m.evaluate(q, t, true);
+    solver->analyze(m.tangent());
+    if (!solver->factorize(m.tangent())) throw std::runtime_error("the linear system is singular");
+    q -= solver->solve(m.residual());
+    m.evaluate(q, t, false);
+    out.write_step(m, solve::StepReport{1, t, t, 1, m.residual().norm(), 0, {}}, true);
+    summary.result = {true, t, 1, 1, "linear analysis"};
+    summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
+    return summary;
+  }
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
   summary.result = solve::run_continuation(
       m, q, c.run.steps, c.run.newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
