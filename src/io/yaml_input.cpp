@@ -196,7 +196,12 @@ YamlNode YamlNode::operator[](const std::string& key) const {
   if (!node_.IsMap()) fail(fmt::format("a map with key '{}'", key));
   mark_read(key);
   const YAML::Node value = static_cast<const YAML::Node&>(node_)[key];
-  if (!value.IsDefined()) fail_message(fmt::format("missing required key '{}'", key));
+  if (!value.IsDefined()) {
+    // A present key that looks like a typo of the missing one says more than "missing".
+    if (const auto typo = closest(key, keys()); typo && *typo != key)
+      fail_message(fmt::format("missing required key '{}' (found '{}': a typo?)", key, *typo));
+    fail_message(fmt::format("missing required key '{}'", key));
+  }
   return child(value, path_.empty() ? key : path_ + "." + key, key_line(key));
 }
 

@@ -1,0 +1,124 @@
+// Bad input must give a clear message naming file, line, key and expectation, exit code 2, and leave no
+// output behind. Each row edits a valid case in one place.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "cli_util.hpp"
+
+namespace fibrane::testing {
+namespace {
+
+const char* const valid_case = R"(shells:
+  - name: plate
+    geometry:
+      rectangle: {origin: [0, 0, 0], edge_u: [1, 0, 0], edge_v: [0, 1, 0]}
+    refine: {degree: 2, continuity: 1, elements: [2, 2]}
+    thickness: 0.1
+    material: {young: 1000, poisson: 0.3}
+constraints:
+  - {body: plate, at: {edge: u0}, fix: [x, y, z]}
+  - {body: plate, at: {edge: u0}, clamp: true}
+loads:
+  - {body: plate, type: pressure, value: 1}
+monitors:
+  - {name: w, type: displacement, body: plate, at: {corner: [1, 1]}, component: z}
+steps: {dt: 0.5}
+)";
+
+struct Malformed {
+  const char* name;
+  const char* from;
+  const char* to;
+  const char* message;  // must appear in the output
+};
+
+const Malformed cases[] = {
+    {"missing_key", "    thickness: 0.1\n", "", ":2: shells[0]: missing required key 'thickness'"},
+    {"misspelt_key", "thickness:", "thicknes:", "missing required key 'thickness' (found 'thicknes': a typo?)"},
+    {"unknown_key", "steps: {dt: 0.5}", "steps: {dt: 0.5, dtt: 3}", ":15: steps: unknown key 'dtt'"},
+    {"wrong_type", "thickness: 0.1", "thickness: abc", ":6: shells[0].thickness: expected a number, got 'abc'"},
+    {"zero_thickness", "thickness: 0.1", "thickness: 0", "shells[0].thickness: expected a positive number, got 0"},
+    {"poisson_too_large", "poisson: 0.3", "poisson: 0.7",
+     "shells[0].material.poisson: expected a number in (-1, 0.5), got 0.7"},
+    {"poisson_too_small", "poisson: 0.3", "poisson: -1", "expected a number in (-1, 0.5), got -1"},
+    {"negative_young", "young: 1000", "young: -5", "shells[0].material.young: expected a positive number, got -5"},
+    {"bad_edge", "edge: u0", "edge: u5", "constraints[0].at.edge: expected one of 'u0', 'u1', 'v0', 'v1', got 'u5'"},
+    {"unknown_body", "body: plate, at: {edge", "body: plat, at: {edge",
+     "constraints[0].body: expected the name of a shell or beam defined in this case, got 'plat'"},
+    {"bad_component", "fix: [x, y, z]", "fix: [x, w]", "constraints[0].fix[1]: expected one of 'x', 'y', 'z', got 'w'"},
+    {"unknown_function", "value: 1}", "value: 1, function: slow}",
+     "loads[0].function: expected the name of a load function (ramp), got 'slow'"},
+    {"continuity_too_high", "continuity: 1", "continuity: 2", "shells[0].refine.continuity: expected an inter-element"},
+    {"dt_min_above_dt", "steps: {dt: 0.5}", "steps: {dt: 0.5, dt_min: 1}", "steps.dt_min: expected dt_min <= dt"},
+    {"vector_of_two", "origin: [0, 0, 0]", "origin: [0, 0]",
+     "geometry.rectangle.origin: expected a sequence of 3 numbers [x, y, z], got a sequence of 2"},
+    {"syntax_error", "steps: {dt: 0.5}", "steps: {dt: 0.5", "YAML syntax error"},
+    {"knots_decrease", "      rectangle: {origin: [0, 0, 0], edge_u: [1, 0, 0], edge_v: [0, 1, 0]}",
+     "      nurbs: {degrees: [1, 1], knots_u: [0, 0, 1, 0.5, 1, 1], knots_v: [0, 0, 1, 1],\n"
+     "              control_points: [[0,0,0],[0.5,0,0],[1,0,0],[1,0,0],[0,1,0],[0.5,1,0],[1,1,0],[1,1,0]]}",
+     "geometry.nurbs.knots_u: invalid knot vector for degree 1: KnotVector: knots decrease at index 3"},
+    {"control_point_count", "      rectangle: {origin: [0, 0, 0], edge_u: [1, 0, 0], edge_v: [0, 1, 0]}",
+     "      nurbs: {degrees: [1, 1], knots_u: [0, 0, 1, 1], knots_v: [0, 0, 1, 1],\n"
+     "              control_points: [[0,0,0],[1,0,0],[0,1,0]]}",
+     "geometry.nurbs.control_points: expected 4 control points (2 x 2, u fastest), got 3"},
+    {"weight_count", "      rectangle: {origin: [0, 0, 0], edge_u: [1, 0, 0], edge_v: [0, 1, 0]}",
+     "      nurbs: {degrees: [1, 1], knots_u: [0, 0, 1, 1], knots_v: [0, 0, 1, 1],\n"
+     "              control_points: [[0,0,0],[1,0,0],[0,1,0],[1,1,0]], weights: [1, 1, 1]}",
+     "geometry.nurbs.weights: expected 4 weights (one per control point), got 3 values"},
+    {"point_outside_domain", "at: {corner: [1, 1]}", "at: {point: [1.5, 0.5]}",
+     "monitors[0].at.point: expected [u, v] inside the parameter domain of shell 'plate'"},
+    {"conflicting_constraints", "constraints:\n", "constraints:\n  - {body: plate, at: {edge: u0}, prescribe: {z: 1}}\n",
+     "conflicting constraints"},
+    {"load_type_for_beams", "type: pressure, value: 1", "type: point_moment, moment: [0, 0, 1], at: {end: start}",
+     "loads[0].type: expected a load type for shells"},
+};
+
+void PrintTo(const Malformed& m, std::ostream* os) { *os << m.name; }
+
+class MalformedCase : public ::testing::TestWithParam<Malformed> {};
+
+TEST_P(MalformedCase, ClearMessageExitCodeTwoNoOutput) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const Malformed& m = GetParam();
+  std::string text = valid_case;
+  const auto at = text.find(m.from);
+  ASSERT_NE(at, std::string::npos) << m.from;
+  text.replace(at, std::string(m.from).size(), m.to);
+  const auto dir = std::filesystem::temp_directory_path() / (std::string("fibrane-bad-") + m.name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto file = dir / "case.yaml";
+  std::ofstream(file) << text;
+  const auto out = dir / "out";
+  const auto r = run_cli("run '" + file.string() + "' -q -o '" + out.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find(m.message), std::string::npos) << "output was: " << r.output;
+  EXPECT_NE(r.output.find(file.string()), std::string::npos) << "the message must name the file: " << r.output;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "no output may be written for bad input";
+}
+
+INSTANTIATE_TEST_SUITE_P(Cases, MalformedCase, ::testing::ValuesIn(cases),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Cli, ValidCaseRunsAndMissingFileIsInputError) {
+  if (fibrane_binary().empty()) GTEST_SKIP();
+  const auto dir = std::filesystem::temp_directory_path() / "fibrane-good";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "case.yaml") << valid_case;
+  const auto ok = run_cli("run '" + (dir / "case.yaml").string() + "' -q -o '" + (dir / "out").string() + "'");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_TRUE(std::filesystem::exists(dir / "out" / "history.csv"));
+  const auto missing = run_cli("run '" + (dir / "nope.yaml").string() + "'");
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_NE(missing.output.find("nope.yaml: cannot open"), std::string::npos) << missing.output;
+  const auto usage = run_cli("run");
+  EXPECT_EQ(usage.exit_code, 2);
+  const auto version = run_cli("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.output.find("fibrane "), std::string::npos);
+}
+
+}  // namespace
+}  // namespace fibrane::testing

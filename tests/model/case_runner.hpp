@@ -1,0 +1,83 @@
+#pragma once
+// Test helpers: run a case (an example file, optionally edited, or YAML text) in a fresh temporary
+// directory through the library, and read its history.csv back as columns.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "model/case_reader.hpp"
+#include "model/run.hpp"
+
+namespace fibrane::testing {
+
+inline std::filesystem::path fresh_directory(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("fibrane-test-" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+inline std::string read_text(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The text of examples/<name>, with each (from, to) replacement applied once (it must occur).
+inline std::string example_text(const std::string& name,
+                                const std::vector<std::pair<std::string, std::string>>& edits = {}) {
+  std::string text = read_text(std::filesystem::path(FIBRANE_SOURCE_DIR) / "examples" / name);
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) throw std::runtime_error("edit target not found: " + from);
+    text.replace(at, from.size(), to);
+  }
+  return text;
+}
+
+using History = std::map<std::string, std::vector<double>>;
+
+inline History read_history(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  std::stringstream header(line);
+  for (std::string name; std::getline(header, name, ',');) names.push_back(name);
+  History h;
+  while (std::getline(in, line)) {
+    std::stringstream row(line);
+    std::size_t k = 0;
+    for (std::string v; std::getline(row, v, ','); ++k) h[names.at(k)].push_back(std::stod(v));
+  }
+  return h;
+}
+
+struct CaseRun {
+  model::Case c;
+  model::RunSummary summary;
+  History history;
+  std::filesystem::path directory;
+};
+
+// Runs YAML text as a case named `name` (quiet, in a fresh temporary directory).
+inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int threads = 0) {
+  const auto dir = fresh_directory(name);
+  const auto file = dir / (name + ".yaml");
+  std::ofstream(file) << yaml;
+  CaseRun r{model::read_case(file.string()), {}, {}, dir / "out"};
+  model::RunOptions opt;
+  opt.output_directory = r.directory.string();
+  opt.quiet = true;
+  opt.threads = threads;
+  r.summary = model::run_case(r.c, opt);
+  r.history = read_history(r.directory / "history.csv");
+  return r;
+}
+
+}  // namespace fibrane::testing
