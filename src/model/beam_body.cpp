@@ -117,6 +117,7 @@ beam::BeamDofs BeamBody::current(const std::vector<int>& cps, const Eigen::Vecto
   beam::BeamDofs q(4, cps.size());
   for (std::size_t a = 0; a < cps.size(); ++a) {
     q.col(a).head<3>() = curve.control_points()[cps[a]];
+    q(3, a) = 0.0;  // the twist has no reference value
     for (int c = 0; c < 4; ++c) q(c, a) += u[dofs.dof(block, cps[a], c)];
   }
   return q;
