@@ -202,14 +202,23 @@ void SparseAssembler::add_vector(std::span<const int> dofs, const Eigen::VectorX
 void SparseAssembler::end() {
   const Eigen::Index nnz = matrix_.nonZeros();
   double* values = matrix_.valuePtr();
-  auto reduce = [&](const Buffer& b) {
+  // Sum and clear in one pass, so the next begin() finds the buffers zeroed already.
+  auto reduce = [&](Buffer& b) {
     if (!b.used) return;
     if (with_matrix_) {
+      double* buffer = b.values.data();
       // A parallel region costs microseconds (milliseconds on an oversubscribed machine): only for big arrays.
 #pragma omp parallel for schedule(static) if (nnz > 200000)
-      for (Eigen::Index i = 0; i < nnz; ++i) values[i] += b.values[static_cast<size_t>(i)];
+      for (Eigen::Index i = 0; i < nnz; ++i) {
+        values[i] += buffer[i];
+        buffer[i] = 0.0;
+      }
     }
-    for (size_t i = 0; i < b.residual.size(); ++i) full_residual_[static_cast<Eigen::Index>(i)] += b.residual[i];
+    for (size_t i = 0; i < b.residual.size(); ++i) {
+      full_residual_[static_cast<Eigen::Index>(i)] += b.residual[i];
+      b.residual[i] = 0.0;
+    }
+    b.used = false;
   };
   for (size_t i = 1; i < buffers_.size(); ++i) reduce(buffers_[i]);
   reduce(overflow_);
