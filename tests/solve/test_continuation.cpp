@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "common/error.hpp"
 #include "solve/continuation.hpp"
 #include "spring_network.hpp"
 
@@ -209,6 +210,18 @@ TEST(Continuation, SecantPredictorSavesIterations) {
     iterations[extrapolate] = res.total_iterations;
   }
   EXPECT_LT(iterations[1], iterations[0]);
+}
+
+TEST(Continuation, InvalidStepControlIsAnInputError) {
+  SpringNetwork bar = make_bar(0.5);
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  StepControl zero_step;
+  zero_step.dt_initial = 0.0;
+  EXPECT_THROW(run_continuation(bar, q, zero_step, NewtonOptions{}, *solver, nullptr), InputError);
+  StepControl bad_cutback;
+  bad_cutback.cutback = 1.0;  // would retry the same failing step forever
+  EXPECT_THROW(run_continuation(bar, q, bad_cutback, NewtonOptions{}, *solver, nullptr), InputError);
 }
 
 }  // namespace
