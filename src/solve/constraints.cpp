@@ -61,6 +61,7 @@ void ConstraintSet::fix(int dof, double value, int curve) {
 void ConstraintSet::finalize(int n_dofs) {
   n_dofs_ = n_dofs;
   slave_of_.assign(static_cast<size_t>(n_dofs), -1);
+  std::vector<int> deferred;  // raw constraints on an already-constrained DOF, checked after resolution
   auto check_range = [&](int dof, int slave) {
     if (dof < 0 || dof >= n_dofs)
       throw InputError("constraint on DOF " + std::to_string(slave) + " refers to DOF " +
@@ -77,10 +78,18 @@ void ConstraintSet::finalize(int n_dofs) {
     int& owner = slave_of_[static_cast<size_t>(c.slave)];
     if (owner >= 0) {
       const LinearConstraint& first = raw_[static_cast<size_t>(owner)];
-      if (!same_terms(first.masters, c.masters) || !same_terms(prescribed_of(first), prescribed_of(c)))
-        throw InputError("conflicting constraints on DOF " + std::to_string(c.slave) +
-                         " (it is constrained twice with different masters or values)");
-      continue;  // identical duplicate: keep the first
+      if (same_terms(first.masters, c.masters) && same_terms(prescribed_of(first), prescribed_of(c)))
+        continue;  // identical duplicate: keep the first
+      // A second, different constraint on the same DOF is accepted only if it agrees with the first once
+      // every chain is resolved (e.g. a corner fixed by one edge and tied to its neighbour by another).
+      // The one with fewer masters is kept as the definition; the other is checked after resolution.
+      if (c.masters.size() < first.masters.size()) {
+        deferred.push_back(owner);
+        owner = static_cast<int>(i);
+      } else {
+        deferred.push_back(static_cast<int>(i));
+      }
+      continue;
     }
     owner = static_cast<int>(i);
   }
@@ -91,6 +100,8 @@ void ConstraintSet::finalize(int n_dofs) {
   for (int d = 0; d < n_dofs; ++d)
     if (slave_of_[static_cast<size_t>(d)] >= 0 && state[static_cast<size_t>(d)] == 0)
       resolve(d, state, path);
+
+  for (int i : deferred) check_agrees(raw_[static_cast<size_t>(i)]);
 
   dof_to_free_.assign(static_cast<size_t>(n_dofs), -1);
   free_to_dof_.clear();
@@ -110,6 +121,26 @@ void ConstraintSet::finalize(int n_dofs) {
     }
   }
   finalized_ = true;
+}
+
+void ConstraintSet::check_agrees(const LinearConstraint& c) const {
+  Resolved r;
+  r.terms = prescribed_of(c);
+  for (const auto& [m, coef] : c.masters) {
+    if (slave_of_[static_cast<size_t>(m)] < 0) {
+      r.masters.emplace_back(m, coef);
+      continue;
+    }
+    const Resolved& sub = resolved_[static_cast<size_t>(m)];
+    for (const auto& [mm, cc] : sub.masters) r.masters.emplace_back(mm, coef * cc);
+    for (const auto& [curve, amp] : sub.terms) r.terms.emplace_back(curve, coef * amp);
+  }
+  normalize(r.masters);
+  normalize(r.terms);
+  const Resolved& kept = resolved_[static_cast<size_t>(c.slave)];
+  if (!same_terms(kept.masters, r.masters) || !same_terms(kept.terms, r.terms))
+    throw InputError("conflicting constraints on DOF " + std::to_string(c.slave) +
+                     " (it is constrained twice, and the two constraints disagree)");
 }
 
 void ConstraintSet::resolve(int dof, std::vector<int>& state, std::vector<int>& path) {

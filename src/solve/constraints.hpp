@@ -59,6 +59,7 @@ class ConstraintSet {
     std::vector<std::pair<int, double>> terms;    // (curve, amplitude)
   };
   void check_ready(int dof) const;
+  void check_agrees(const LinearConstraint& c) const;
   void resolve(int dof, std::vector<int>& state, std::vector<int>& path);
 
   std::vector<LinearConstraint> raw_;

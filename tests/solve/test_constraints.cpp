@@ -114,6 +114,23 @@ TEST(ConstraintSet, IdenticalDuplicatesAreAccepted) {
   EXPECT_EQ(cs.num_free(), 1);
 }
 
+// Symmetry ties meeting at a corner: the corner is fixed by one edge, its neighbour is fixed by the other
+// edge and tied to the corner by the first. Both constraints on the neighbour say u = 0 once resolved.
+TEST(ConstraintSet, DuplicatesThatAgreeAfterResolutionAreAccepted) {
+  ConstraintSet cs;
+  cs.fix(0);
+  cs.add({1, {{0, 1.0}}, 0.0, -1});
+  cs.fix(1);
+  cs.add({3, {{2, 2.0}}, 1.0, -1});
+  cs.add({4, {{2, 1.0}}, 0.0, -1});
+  cs.add({3, {{4, 2.0}}, 1.0, -1});  // 2 u4 + 1 = 2 u2 + 1
+  EXPECT_NO_THROW(cs.finalize(5));
+  EXPECT_EQ(cs.num_free(), 1);
+  const Eigen::VectorXd u = cs.expand(Eigen::VectorXd::Constant(1, 0.5), 0.0, [](int, double) { return 1.0; });
+  EXPECT_DOUBLE_EQ(u[1], 0.0);
+  EXPECT_DOUBLE_EQ(u[3], 2.0);
+}
+
 void expect_input_error_naming(ConstraintSet& cs, int n, const std::string& fragment) {
   try {
     cs.finalize(n);
