@@ -1,0 +1,245 @@
+#include "interaction/closest_point.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <stdexcept>
+
+namespace fibrane::interaction {
+namespace {
+
+// Position, tangent vectors g_a and their derivatives g_ab at one parameter point.
+struct SurfaceJet {
+  Eigen::Vector3d r, g1, g2, g11, g12, g22;
+};
+
+SurfaceJet evaluate(const spline::NurbsSurface& s, const std::vector<Eigen::Vector3d>& x, double u,
+                    double v) {
+  const spline::SurfaceBasis b = s.basis(u, v);
+  SurfaceJet j{};
+  j.r.setZero(), j.g1.setZero(), j.g2.setZero(), j.g11.setZero(), j.g12.setZero(), j.g22.setZero();
+  for (std::size_t a = 0; a < b.indices.size(); ++a) {
+    const Eigen::Vector3d& xa = x[b.indices[a]];
+    j.r += b.R(0, a) * xa;
+    j.g1 += b.R(1, a) * xa;
+    j.g2 += b.R(2, a) * xa;
+    j.g11 += b.R(3, a) * xa;
+    j.g12 += b.R(4, a) * xa;
+    j.g22 += b.R(5, a) * xa;
+  }
+  return j;
+}
+
+constexpr int kMaxIterations = 60;
+constexpr int kLeafSize = 4;
+
+}  // namespace
+
+ShellProximity::ShellProximity(const spline::NurbsSurface& reference)
+    : surface_(reference), elements_(reference.elements()) {
+  const int p = surface_.degree(0), q = surface_.degree(1);
+  element_points_.reserve(elements_.size());
+  const auto spans_u = surface_.knots(0).element_spans();
+  const auto spans_v = surface_.knots(1).element_spans();
+  element_of_span_u_.assign(surface_.knots(0).knots().size(), -1);
+  element_of_span_v_.assign(surface_.knots(1).knots().size(), -1);
+  for (std::size_t i = 0; i < spans_u.size(); ++i) element_of_span_u_[spans_u[i]] = static_cast<int>(i);
+  for (std::size_t j = 0; j < spans_v.size(); ++j)
+    element_of_span_v_[spans_v[j]] = static_cast<int>(j * spans_u.size());
+  for (const spline::SurfaceElement& e : elements_) {
+    std::vector<int> ids;
+    for (int j = e.span_v - q; j <= e.span_v; ++j)
+      for (int i = e.span_u - p; i <= e.span_u; ++i) ids.push_back(surface_.index(i, j));
+    element_points_.push_back(std::move(ids));
+  }
+  update(reference.control_points());
+}
+
+int ShellProximity::element_at(double u, double v) const {
+  return element_of_span_u_[surface_.knots(0).find_span(u)] +
+         element_of_span_v_[surface_.knots(1).find_span(v)];
+}
+
+void ShellProximity::update(const std::vector<Eigen::Vector3d>& current_control_points) {
+  if (static_cast<int>(current_control_points.size()) != surface_.num_control_points())
+    throw std::invalid_argument("ShellProximity::update: control point count does not match the surface");
+  points_ = current_control_points;
+  boxes_.assign(elements_.size(), Eigen::AlignedBox3d());
+  Eigen::AlignedBox3d all;
+  for (std::size_t e = 0; e < elements_.size(); ++e) {
+    for (int id : element_points_[e]) boxes_[e].extend(points_[id]);
+    all.extend(boxes_[e]);
+  }
+  length_scale_ = std::max(all.diagonal().norm(), std::numeric_limits<double>::min());
+  order_.resize(elements_.size());
+  for (std::size_t e = 0; e < order_.size(); ++e) order_[e] = static_cast<int>(e);
+  nodes_.clear();
+  nodes_.reserve(2 * elements_.size());
+  build(0, static_cast<int>(order_.size()));
+}
+
+// Median split of the element boxes along the longest extent of their centres.
+int ShellProximity::build(int first, int count) {
+  const int id = static_cast<int>(nodes_.size());
+  nodes_.push_back(Node{});
+  Eigen::AlignedBox3d box, centres;
+  for (int k = first; k < first + count; ++k) {
+    box.extend(boxes_[order_[k]]);
+    centres.extend(boxes_[order_[k]].center());
+  }
+  nodes_[id].box = box;
+  nodes_[id].first = first;
+  nodes_[id].count = count;
+  if (count <= kLeafSize) return id;
+  int axis = 0;
+  centres.diagonal().maxCoeff(&axis);
+  const int half = count / 2;
+  std::nth_element(order_.begin() + first, order_.begin() + first + half, order_.begin() + first + count,
+                   [&](int a, int b) { return boxes_[a].center()[axis] < boxes_[b].center()[axis]; });
+  const int left = build(first, half);
+  const int right = build(first + half, count - half);
+  nodes_[id].left = left;
+  nodes_[id].right = right;
+  return id;
+}
+
+std::optional<ShellProximity::Candidate> ShellProximity::global_candidate(const Eigen::Vector3d& p,
+                                                                           double bound) const {
+  using Entry = std::pair<double, int>;  // (squared box distance, node)
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  queue.push({nodes_[0].box.squaredExteriorDistance(p), 0});
+  std::optional<Candidate> best;
+  while (!queue.empty()) {
+    const auto [box_distance, id] = queue.top();
+    queue.pop();
+    if (box_distance >= bound) break;  // every remaining box is farther than the best sample
+    const Node& node = nodes_[id];
+    if (node.left >= 0) {
+      queue.push({nodes_[node.left].box.squaredExteriorDistance(p), node.left});
+      queue.push({nodes_[node.right].box.squaredExteriorDistance(p), node.right});
+      continue;
+    }
+    for (int k = node.first; k < node.first + node.count; ++k) {
+      const int e = order_[k];
+      if (boxes_[e].squaredExteriorDistance(p) >= bound) continue;
+      const spline::SurfaceElement& el = elements_[e];
+      for (int j = 0; j < 3; ++j) {
+        for (int i = 0; i < 3; ++i) {
+          const double u = el.u0 + 0.5 * i * (el.u1 - el.u0), v = el.v0 + 0.5 * j * (el.v1 - el.v0);
+          const spline::SurfaceBasis b = surface_.basis_in(el.span_u, el.span_v, u, v);
+          Eigen::Vector3d r = Eigen::Vector3d::Zero();
+          for (std::size_t a = 0; a < b.indices.size(); ++a) r += b.R(0, a) * points_[b.indices[a]];
+          const double f = (p - r).squaredNorm();
+          if (f < bound) {
+            bound = f;
+            best = Candidate{f, Eigen::Vector2d(u, v)};
+          }
+        }
+      }
+    }
+  }
+  return best;
+}
+
+// Projected Newton on h_a = (p - r) . g_a = 0 (Eq. 63), dh_a/dtheta^b = -C_ab (Eq. C3), with the
+// parameter box as bound constraints and backtracking on f = |p - r|^2 / 2 (grad f = -h).
+ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eigen::Vector2d theta) const {
+  const Eigen::Vector2d lo(surface_.knots(0).front(), surface_.knots(1).front());
+  const Eigen::Vector2d hi(surface_.knots(0).back(), surface_.knots(1).back());
+  const Eigen::Vector2d span = hi - lo;
+  theta = theta.cwiseMax(lo).cwiseMin(hi);
+  Projection out;
+  SurfaceJet s = evaluate(surface_, points_, theta[0], theta[1]);
+  bool converged = false, outward = false;
+  for (int it = 0; it <= kMaxIterations; ++it) {
+    const Eigen::Vector3d D = p - s.r;
+    const Eigen::Vector2d h(D.dot(s.g1), D.dot(s.g2));
+    Eigen::Matrix2d C;
+    C << s.g1.dot(s.g1) - D.dot(s.g11), s.g1.dot(s.g2) - D.dot(s.g12), s.g1.dot(s.g2) - D.dot(s.g12),
+        s.g2.dot(s.g2) - D.dot(s.g22);
+    // Round-off floor of h_a: |g_a| times the accuracy of D (relative to the patch size).
+    const Eigen::Vector2d tol(1e-13 * s.g1.norm() * (D.norm() + length_scale_),
+                              1e-13 * s.g2.norm() * (D.norm() + length_scale_));
+    // Active bounds: on the boundary with the distance decreasing outward (-h_a points out).
+    bool active[2];
+    for (int a = 0; a < 2; ++a)
+      active[a] = (theta[a] <= lo[a] && h[a] < -tol[a]) || (theta[a] >= hi[a] && h[a] > tol[a]);
+    const bool stationary = (active[0] || std::abs(h[0]) <= tol[0]) && (active[1] || std::abs(h[1]) <= tol[1]);
+    out.iterations = it;
+    if (stationary) {
+      converged = true;
+      outward = active[0] || active[1];
+      out.where = outward ? Projection::Where::outside : Projection::Where::interior;
+      if (!outward && !(C.determinant() > 0 && C(0, 0) > 0)) out.where = Projection::Where::failed;
+      break;
+    }
+    if (it == kMaxIterations) break;
+    // Newton matrix C where it is positive definite, else the metric g_ab (a descent direction).
+    Eigen::Matrix2d M = C;
+    if (!(M.determinant() > 0 && M(0, 0) > 0)) {
+      M << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
+      M += 1e-14 * M.trace() * Eigen::Matrix2d::Identity();
+    }
+    Eigen::Vector2d step = Eigen::Vector2d::Zero();
+    if (active[0] && active[1]) {
+      step.setZero();
+    } else if (active[0]) {
+      step[1] = h[1] / M(1, 1);
+    } else if (active[1]) {
+      step[0] = h[0] / M(0, 0);
+    } else {
+      step = M.ldlt().solve(h);
+    }
+    const double f0 = 0.5 * D.squaredNorm();
+    double scale = 1.0;
+    Eigen::Vector2d next;
+    SurfaceJet trial;
+    for (int k = 0; k < 40; ++k, scale *= 0.5) {
+      next = (theta + scale * step).cwiseMax(lo).cwiseMin(hi);
+      trial = evaluate(surface_, points_, next[0], next[1]);
+      if (0.5 * (p - trial.r).squaredNorm() <= f0 * (1 + 1e-14) + 1e-30 * length_scale_) break;
+    }
+    if (((next - theta).array().abs() <= 1e-15 * span.array()).all()) {
+      // No further progress possible: accept if h is at the round-off level.
+      theta = next;
+      s = trial;
+      out.iterations = it + 1;
+      const Eigen::Vector3d Dn = p - s.r;
+      converged = std::abs(Dn.dot(s.g1)) <= 1e3 * tol[0] && std::abs(Dn.dot(s.g2)) <= 1e3 * tol[1];
+      out.where = converged ? Projection::Where::interior : Projection::Where::failed;
+      break;
+    }
+    theta = next;
+    s = trial;
+  }
+  out.u = theta[0];
+  out.v = theta[1];
+  out.element = element_at(theta[0], theta[1]);
+  out.point = s.r;
+  const Eigen::Vector3d D = p - s.r;
+  out.distance = D.norm();
+  out.normal = out.distance > 0 ? Eigen::Vector3d(D / out.distance) : Eigen::Vector3d::Zero();
+  if (!converged) out.where = Projection::Where::failed;
+  return out;
+}
+
+ShellProximity::Projection ShellProximity::project(const Eigen::Vector3d& p,
+                                                   const std::optional<Eigen::Vector2d>& start) const {
+  if (start) {
+    Projection warm = newton(p, *start);
+    if (warm.where == Projection::Where::failed) return project(p);
+    // Any element that might hold a clearly closer point? (Box bound, then samples.)
+    const double bound = warm.distance * warm.distance * (1.0 - 1e-8);
+    const std::optional<Candidate> other = global_candidate(p, bound);
+    if (!other) return warm;
+    Projection cold = newton(p, other->theta);
+    cold.iterations += warm.iterations;
+    return (cold.where != Projection::Where::failed && cold.distance < warm.distance) ? cold : warm;
+  }
+  const std::optional<Candidate> best = global_candidate(p, std::numeric_limits<double>::infinity());
+  if (!best) return Projection{};
+  return newton(p, best->theta);
+}
+
+}  // namespace fibrane::interaction
