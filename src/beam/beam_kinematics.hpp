@@ -1,10 +1,25 @@
 #pragma once
 // Internal: kinematics and strains of the beam axis at one point as functions of the local
-// quantities w = [a_1, a_1,1, phi_rel, phi_rel,1]; templated on double or Jet (local_jet.hpp).
+// quantities w = [a_1, a_1,1, phi_rel, phi_rel,1]; templated on double or Jet (common/jet.hpp).
 #include "beam/beam.hpp"
-#include "beam/local_jet.hpp"
+#include "common/jet.hpp"
 
 namespace fibrane::beam::detail {
+
+// The beam energy density at a point depends on the element DOFs only through 8 local quantities
+// w = [a_1 (3), a_1,1 (3), phi, phi_,1], linear in the DOFs: residual and tangent are B^T g, B^T H B.
+constexpr int kLocalVars = 8;
+using Jet = ad::Jet<kLocalVars>;
+using ad::chain;
+using ad::cos;
+using ad::cross;
+using ad::dot;
+using ad::sin;
+using ad::sqrt;
+using ad::to_eigen;
+using ad::to_vec3;
+using ad::value;
+using ad::Vec3;
 
 template <class S>
 struct LocalVars {

@@ -1,22 +1,20 @@
 #pragma once
-// Second-order forward differentiation for the beam point kernel.
+// Second-order forward automatic differentiation over N local variables.
 //
-// The beam energy density at a quadrature point depends on the element DOFs only through 8 local
-// quantities w = [a_1 (3), a_1,1 (3), phi, phi_,1] which are LINEAR in the DOFs. A Jet carries a value
-// together with its exact gradient and Hessian with respect to w, so the residual and the consistent
-// tangent follow exactly from the closed-form energy (Eqs. 32-43) as B^T g and B^T H B (B = dw/dq).
-// This replaces transcribing the long (and typo-prone) App. B expressions; every block is verified
-// against finite differences in tests/beam.
+// A Jet<N> carries a value together with its exact gradient and Hessian with respect to N local
+// quantities. Kernels whose energy depends on the DOFs only through a few quantities that are LINEAR in
+// the DOFs (w = B q) get the residual and the consistent tangent exactly as B^T g and B^T H B.
+// Used by the beam point kernel (N = 8) and the beam-shell interaction kernel. Arithmetic is truncated at
+// second order, which is exact for gradients and Hessians.
 #include <Eigen/Core>
 #include <cmath>
 
-namespace fibrane::beam::detail {
+namespace fibrane::ad {
 
-constexpr int kLocalVars = 8;
-
+template <int N>
 struct Jet {
-  using Grad = Eigen::Matrix<double, kLocalVars, 1>;
-  using Hess = Eigen::Matrix<double, kLocalVars, kLocalVars>;
+  using Grad = Eigen::Matrix<double, N, 1>;
+  using Hess = Eigen::Matrix<double, N, N>;
   double v = 0.0;
   Grad g = Grad::Zero();
   Hess h = Hess::Zero();
@@ -31,62 +29,100 @@ struct Jet {
 };
 
 // f(a) with f' and f'' given: chain rule to second order.
-inline Jet chain(const Jet& a, double f, double df, double ddf) {
-  Jet r(f);
+template <int N>
+Jet<N> chain(const Jet<N>& a, double f, double df, double ddf) {
+  Jet<N> r(f);
   r.g = df * a.g;
   r.h = df * a.h + ddf * a.g * a.g.transpose();
   return r;
 }
 
-inline Jet operator-(const Jet& a) { return chain(a, -a.v, -1.0, 0.0); }
-inline Jet operator+(const Jet& a, const Jet& b) {
-  Jet r(a.v + b.v);
+template <int N>
+Jet<N> operator-(const Jet<N>& a) {
+  return chain(a, -a.v, -1.0, 0.0);
+}
+template <int N>
+Jet<N> operator+(const Jet<N>& a, const Jet<N>& b) {
+  Jet<N> r(a.v + b.v);
   r.g = a.g + b.g;
   r.h = a.h + b.h;
   return r;
 }
-inline Jet operator-(const Jet& a, const Jet& b) {
-  Jet r(a.v - b.v);
+template <int N>
+Jet<N> operator-(const Jet<N>& a, const Jet<N>& b) {
+  Jet<N> r(a.v - b.v);
   r.g = a.g - b.g;
   r.h = a.h - b.h;
   return r;
 }
-inline Jet operator*(const Jet& a, const Jet& b) {
-  Jet r(a.v * b.v);
+template <int N>
+Jet<N> operator*(const Jet<N>& a, const Jet<N>& b) {
+  Jet<N> r(a.v * b.v);
   r.g = a.v * b.g + b.v * a.g;
-  const Jet::Hess cross = a.g * b.g.transpose();
+  const typename Jet<N>::Hess cross = a.g * b.g.transpose();
   r.h = a.v * b.h + b.v * a.h + cross + cross.transpose();
   return r;
 }
-inline Jet operator+(const Jet& a, double b) {
-  Jet r = a;
+template <int N>
+Jet<N> operator+(const Jet<N>& a, double b) {
+  Jet<N> r = a;
   r.v += b;
   return r;
 }
-inline Jet operator+(double a, const Jet& b) { return b + a; }
-inline Jet operator-(const Jet& a, double b) { return a + (-b); }
-inline Jet operator-(double a, const Jet& b) { return (-b) + a; }
-inline Jet operator*(const Jet& a, double b) {
-  Jet r(a.v * b);
+template <int N>
+Jet<N> operator+(double a, const Jet<N>& b) {
+  return b + a;
+}
+template <int N>
+Jet<N> operator-(const Jet<N>& a, double b) {
+  return a + (-b);
+}
+template <int N>
+Jet<N> operator-(double a, const Jet<N>& b) {
+  return (-b) + a;
+}
+template <int N>
+Jet<N> operator*(const Jet<N>& a, double b) {
+  Jet<N> r(a.v * b);
   r.g = b * a.g;
   r.h = b * a.h;
   return r;
 }
-inline Jet operator*(double a, const Jet& b) { return b * a; }
-inline Jet reciprocal(const Jet& a) {
+template <int N>
+Jet<N> operator*(double a, const Jet<N>& b) {
+  return b * a;
+}
+template <int N>
+Jet<N> reciprocal(const Jet<N>& a) {
   const double inv = 1.0 / a.v;
   return chain(a, inv, -inv * inv, 2.0 * inv * inv * inv);
 }
-inline Jet operator/(const Jet& a, const Jet& b) { return a * reciprocal(b); }
-inline Jet operator/(const Jet& a, double b) { return a * (1.0 / b); }
-inline Jet operator/(double a, const Jet& b) { return a * reciprocal(b); }
+template <int N>
+Jet<N> operator/(const Jet<N>& a, const Jet<N>& b) {
+  return a * reciprocal(b);
+}
+template <int N>
+Jet<N> operator/(const Jet<N>& a, double b) {
+  return a * (1.0 / b);
+}
+template <int N>
+Jet<N> operator/(double a, const Jet<N>& b) {
+  return a * reciprocal(b);
+}
 
-inline Jet sqrt(const Jet& a) {
+template <int N>
+Jet<N> sqrt(const Jet<N>& a) {
   const double s = std::sqrt(a.v);
   return chain(a, s, 0.5 / s, -0.25 / (s * a.v));
 }
-inline Jet sin(const Jet& a) { return chain(a, std::sin(a.v), std::cos(a.v), -std::sin(a.v)); }
-inline Jet cos(const Jet& a) { return chain(a, std::cos(a.v), -std::sin(a.v), -std::cos(a.v)); }
+template <int N>
+Jet<N> sin(const Jet<N>& a) {
+  return chain(a, std::sin(a.v), std::cos(a.v), -std::sin(a.v));
+}
+template <int N>
+Jet<N> cos(const Jet<N>& a) {
+  return chain(a, std::cos(a.v), -std::sin(a.v), -std::cos(a.v));
+}
 
 // Plain-double versions, so templated code can call sqrt/sin/cos unqualified for both scalar types.
 inline double sqrt(double a) { return std::sqrt(a); }
@@ -94,7 +130,10 @@ inline double sin(double a) { return std::sin(a); }
 inline double cos(double a) { return std::cos(a); }
 
 inline double value(double a) { return a; }
-inline double value(const Jet& a) { return a.v; }
+template <int N>
+double value(const Jet<N>& a) {
+  return a.v;
+}
 
 // Minimal 3-vector over double or Jet (Eigen's custom-scalar machinery would be heavier than this).
 template <class S>
@@ -132,4 +171,4 @@ auto cross(const Vec3<A>& a, const Vec3<B>& b) {
   return Vec3<decltype(a.x * b.x)>{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 
-}  // namespace fibrane::beam::detail
+}  // namespace fibrane::ad
