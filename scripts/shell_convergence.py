@@ -11,7 +11,8 @@ examples/rollup-strip.yaml and prints markdown tables:
   * Newton residual history of a few roll-up steps (bench program shell_newton_log), to show the quadratic
     convergence: the contraction r_k / r_{k-1}^2 settles to a constant.
 
-Usage: /usr/bin/python3 scripts/shell_convergence.py [--build build-shellver] [--quick]
+Usage: /usr/bin/python3 scripts/shell_convergence.py [--build build-shellver] [--quick] [--meshes 2 4 ...]
+       [--only scordelis|pinched|rollup|newton ...]
 """
 import argparse
 import csv
@@ -158,12 +159,13 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build-shellver", help="build directory (relative to the repository)")
     ap.add_argument("--quick", action="store_true", help="meshes 2..16 only")
+    ap.add_argument("--meshes", type=int, nargs="+", help="elements per direction of the linear benchmarks")
     ap.add_argument("--only", choices=["scordelis", "pinched", "rollup", "newton"], action="append")
     args = ap.parse_args()
     build = ROOT / args.build
     fibrane = build / "app" / "fibrane"
     log_program = build / "bench" / "shell_newton_log"
-    meshes = [2, 4, 8, 16] if args.quick else [2, 4, 8, 16, 32]
+    meshes = args.meshes or ([2, 4, 8, 16] if args.quick else [2, 4, 8, 16, 32])
     parts = args.only or ["scordelis", "pinched", "rollup", "newton"]
     with tempfile.TemporaryDirectory(prefix="fibrane-shell-convergence-") as tmp:
         work = pathlib.Path(tmp)
