@@ -31,6 +31,7 @@ struct Evaluation {
   Eigen::VectorXd residual;
   Eigen::MatrixXd tangent;
   ShellProximity::Projection projection;
+  PairPoint pair;  // the kernel's input
 };
 
 class PairFixture {
@@ -97,6 +98,7 @@ class PairFixture {
     for (std::size_t a = 0; a < shell_ids_.size(); ++a) pp.shell_x.col(a) = pts[sb.indices[a]];
     pp.weight = weight;
     ev.result = add_sbs_point(law, f, ft, pp, &ev.energy, &ev.residual, &ev.tangent);
+    ev.pair = pp;
     return ev;
   }
 
