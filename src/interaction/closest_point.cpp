@@ -31,6 +31,11 @@ SurfaceJet evaluate(const spline::NurbsSurface& s, const std::vector<Eigen::Vect
   return j;
 }
 
+// Sample k of the 3 x 3 grid (corners, edge midpoints, centre) of an element's parameter box.
+std::pair<double, double> sample_parameters(const spline::SurfaceElement& e, int k) {
+  return {e.u0 + 0.5 * (k % 3) * (e.u1 - e.u0), e.v0 + 0.5 * (k / 3) * (e.v1 - e.v0)};
+}
+
 constexpr int kMaxIterations = 60;
 constexpr int kLeafSize = 4;
 
@@ -51,7 +56,13 @@ ShellProximity::ShellProximity(const spline::NurbsSurface& reference)
     std::vector<int> ids;
     for (int j = e.span_v - q; j <= e.span_v; ++j)
       for (int i = e.span_u - p; i <= e.span_u; ++i) ids.push_back(surface_.index(i, j));
+    Eigen::Matrix<double, 9, Eigen::Dynamic> samples(9, static_cast<int>(ids.size()));
+    for (int k = 0; k < 9; ++k) {
+      const auto [u, v] = sample_parameters(e, k);
+      samples.row(k) = surface_.basis_in(e.span_u, e.span_v, u, v).R.row(0);
+    }
     element_points_.push_back(std::move(ids));
+    element_samples_.push_back(std::move(samples));
   }
   update(reference.control_points());
 }
@@ -123,18 +134,16 @@ std::optional<ShellProximity::Candidate> ShellProximity::global_candidate(const 
     for (int k = node.first; k < node.first + node.count; ++k) {
       const int e = order_[k];
       if (boxes_[e].squaredExteriorDistance(p) >= bound) continue;
-      const spline::SurfaceElement& el = elements_[e];
-      for (int j = 0; j < 3; ++j) {
-        for (int i = 0; i < 3; ++i) {
-          const double u = el.u0 + 0.5 * i * (el.u1 - el.u0), v = el.v0 + 0.5 * j * (el.v1 - el.v0);
-          const spline::SurfaceBasis b = surface_.basis_in(el.span_u, el.span_v, u, v);
-          Eigen::Vector3d r = Eigen::Vector3d::Zero();
-          for (std::size_t a = 0; a < b.indices.size(); ++a) r += b.R(0, a) * points_[b.indices[a]];
-          const double f = (p - r).squaredNorm();
-          if (f < bound) {
-            bound = f;
-            best = Candidate{f, Eigen::Vector2d(u, v)};
-          }
+      const std::vector<int>& ids = element_points_[e];
+      const auto& samples = element_samples_[e];
+      for (int sample = 0; sample < 9; ++sample) {
+        Eigen::Vector3d r = Eigen::Vector3d::Zero();
+        for (std::size_t a = 0; a < ids.size(); ++a) r += samples(sample, static_cast<int>(a)) * points_[ids[a]];
+        const double f = (p - r).squaredNorm();
+        if (f < bound) {
+          bound = f;
+          const auto [u, v] = sample_parameters(elements_[e], sample);
+          best = Candidate{f, Eigen::Vector2d(u, v)};
         }
       }
     }

@@ -72,6 +72,9 @@ class ShellProximity {
   spline::NurbsSurface surface_;
   std::vector<spline::SurfaceElement> elements_;
   std::vector<std::vector<int>> element_points_;  // control points supporting each element
+  // Basis values at the element's 3 x 3 sample parameters (rows), columns as element_points_: the
+  // samples of the global search then cost one small product per element.
+  std::vector<Eigen::Matrix<double, 9, Eigen::Dynamic>> element_samples_;
   std::vector<int> element_of_span_u_, element_of_span_v_;
   std::vector<Eigen::Vector3d> points_;
   std::vector<Eigen::AlignedBox3d> boxes_;

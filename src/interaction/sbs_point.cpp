@@ -21,7 +21,8 @@ using V = ad::Vec3<J>;
 V variable(const Eigen::Vector3d& x, int first) {
   return {J::variable(x.x(), first), J::variable(x.y(), first + 1), J::variable(x.z(), first + 2)};
 }
-V constant(const Eigen::Vector3d& x) { return {J(x.x()), J(x.y()), J(x.z())}; }
+// a c for a constant vector c (cheaper than a jet product).
+V times(const J& a, const Eigen::Vector3d& c) { return {c.x() * a, c.y() * a, c.z() * a}; }
 
 // Distance d and s = cos^2 a = 1 - t_n^2 (Eq. 70) as jets over z: value, gradient and Hessian, with
 // theta-hat eliminated through the orthogonality condition (63).
@@ -29,7 +30,7 @@ struct PairJets {
   J d, s;
 };
 
-PairJets pair_jets(const PairPoint& p) {
+PairJets pair_jets(const PairPoint& p, bool need_angle) {
   const Eigen::Vector3d rb = p.beam_x * p.beam_basis.row(0).transpose();
   const Eigen::Vector3d a1 = p.beam_x * p.beam_basis.row(1).transpose();
   Eigen::Matrix<double, 3, 6> s;  // r_S, g_1, g_2, g_11, g_12, g_22 at theta-hat
@@ -44,11 +45,12 @@ PairJets pair_jets(const PairPoint& p) {
   // h_a(z, theta-hat + dtheta) = (r_B - r_S) . g_a to second order in (z, dtheta) (Eq. 63); the third
   // derivatives g_abc only enter with their values.
   const J t1 = J::variable(0.0, kTheta), t2 = J::variable(0.0, kTheta + 1);
-  const V rs_at = zrs + t1 * zg1 + t2 * zg2 + (0.5 * t1 * t1) * zg11 + (t1 * t2) * zg12 + (0.5 * t2 * t2) * zg22;
-  const V g1_at = zg1 + t1 * zg11 + t2 * zg12 + (0.5 * t1 * t1) * constant(s3.col(0)) +
-                  (t1 * t2) * constant(s3.col(1)) + (0.5 * t2 * t2) * constant(s3.col(2));
-  const V g2_at = zg2 + t1 * zg12 + t2 * zg22 + (0.5 * t1 * t1) * constant(s3.col(1)) +
-                  (t1 * t2) * constant(s3.col(2)) + (0.5 * t2 * t2) * constant(s3.col(3));
+  const J t11 = 0.5 * t1 * t1, t12 = t1 * t2, t22 = 0.5 * t2 * t2;
+  const V rs_at = zrs + t1 * zg1 + t2 * zg2 + t11 * zg11 + t12 * zg12 + t22 * zg22;
+  const V g1_at = zg1 + t1 * zg11 + t2 * zg12 + times(t11, s3.col(0)) + times(t12, s3.col(1)) +
+                  times(t22, s3.col(2));
+  const V g2_at = zg2 + t1 * zg12 + t2 * zg22 + times(t11, s3.col(1)) + times(t12, s3.col(2)) +
+                  times(t22, s3.col(3));
   const V D_at = zrb - rs_at;
   const J h[2] = {ad::dot(D_at, g1_at), ad::dot(D_at, g2_at)};
 
@@ -82,6 +84,11 @@ PairJets pair_jets(const PairPoint& p) {
   const V D = zrb - rs;
   PairJets out;
   out.d = ad::sqrt(ad::dot(D, D));
+  if (!need_angle) {  // RF2: phi(d, 1); cos a only reported, no derivatives needed
+    const double tn = a1.dot(ad::to_eigen(D)) / (a1.norm() * out.d.v);
+    out.s = J(1.0 - tn * tn);
+    return out;
+  }
   const J tn = ad::dot(za1, D) / (ad::sqrt(ad::dot(za1, za1)) * out.d);  // t . n (Eq. 70)
   out.s = 1.0 - tn * tn;
   return out;
@@ -151,7 +158,7 @@ PairResult add_sbs_point(const laws::LennardJonesDiskPlate& law, Formulation f, 
                          Eigen::MatrixXd* tangent) {
   const bool exact_ff = f == Formulation::FF && ff_tangent == FfTangent::exact && tangent != nullptr;
   check_sizes(p, exact_ff);
-  const PairJets jets = pair_jets(p);
+  const PairJets jets = pair_jets(p, f != Formulation::RF2);
   const J& d = jets.d;
   const J& s = jets.s;
   if (!(d.v > 0)) throw std::domain_error("add_sbs_point: beam point on the shell mid-surface (d = 0)");
