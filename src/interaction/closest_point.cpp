@@ -180,7 +180,11 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
       converged = true;
       outward = active[0] || active[1];
       out.where = outward ? Projection::Where::outside : Projection::Where::interior;
-      if (!outward && !(C.determinant() > 0 && C(0, 0) > 0)) out.where = Projection::Where::failed;
+      // Degenerate (C_ab singular relative to the metric, e.g. the centre of a sphere): theta-hat is not a
+      // differentiable function of the configuration there.
+      const double metric_det = s.g1.squaredNorm() * s.g2.squaredNorm() - std::pow(s.g1.dot(s.g2), 2);
+      if (!outward && !(C.determinant() > 1e-10 * metric_det && C(0, 0) > 0))
+        out.where = Projection::Where::failed;
       break;
     }
     if (it == kMaxIterations) break;

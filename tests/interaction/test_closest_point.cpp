@@ -76,6 +76,39 @@ TEST(ClosestPoint, OutsideThePatchIsReportedOutside) {
             Where::interior);
 }
 
+// On every curved patch: a point along the normal of an element-edge point, of a patch-boundary point
+// (both stationary points of the distance: interior), and the boundary point pushed further out beyond
+// the edge (the stationary point leaves the patch: outside, clamped onto the edge).
+TEST(ClosestPoint, EdgesBoundariesAndOutsideOnAllCurvedPatches) {
+  const std::vector<spline::NurbsSurface> surfaces = {test::cylinder(), test::sphere(), test::random_patch(5, 7)};
+  for (const spline::NurbsSurface& s : surfaces) {
+    const ShellProximity prox(s);
+    const double knot_u = s.knots(0).unique_knots()[2], knot_v = s.knots(1).unique_knots()[1];
+    for (const Eigen::Vector2d& t : {Eigen::Vector2d(knot_u, 0.43), Eigen::Vector2d(0.61, knot_v),
+                                     Eigen::Vector2d(0.0, 0.55), Eigen::Vector2d(0.35, 1.0)}) {
+      const Eigen::Vector3d p = s.point(t[0], t[1]) + 0.1 * test::unit_normal(s, t[0], t[1]);
+      expect_projects_to(prox, p, t[0], t[1], 0.1);
+    }
+    // Beyond the edge u = 0 (against g_1) and beyond v = 1 (along g_2).
+    const spline::SurfaceBasis b0 = s.basis(0.0, 0.55), b1 = s.basis(0.35, 1.0);
+    Eigen::Vector3d g1 = Eigen::Vector3d::Zero(), g2 = Eigen::Vector3d::Zero();
+    for (std::size_t a = 0; a < b0.indices.size(); ++a) g1 += b0.R(1, a) * s.control_points()[b0.indices[a]];
+    for (std::size_t a = 0; a < b1.indices.size(); ++a) g2 += b1.R(2, a) * s.control_points()[b1.indices[a]];
+    auto r = prox.project(s.point(0.0, 0.55) + 0.1 * test::unit_normal(s, 0.0, 0.55) - 0.2 * g1.normalized());
+    EXPECT_EQ(r.where, Where::outside);
+    EXPECT_EQ(r.u, 0.0);
+    r = prox.project(s.point(0.35, 1.0) + 0.1 * test::unit_normal(s, 0.35, 1.0) + 0.2 * g2.normalized());
+    EXPECT_EQ(r.where, Where::outside);
+    EXPECT_EQ(r.v, 1.0);
+  }
+}
+
+TEST(ClosestPoint, CentreOfTheSphereIsDegenerate) {
+  // Every point of the sphere patch is at distance R from the centre: C_ab = g_ab - R b_ab = 0.
+  const ShellProximity prox(spline::make_sphere_patch(1.5, 0.2, 1.6, -0.6, 0.8));
+  EXPECT_EQ(prox.project(Eigen::Vector3d::Zero()).where, Where::failed);
+}
+
 // Brute force: dense 200 x 200 sampling, then a pattern search (coordinate steps halved until 1e-12) that
 // shares nothing with the Newton iteration under test.
 Eigen::Vector3d brute_force(const spline::NurbsSurface& s, const Eigen::Vector3d& p) {
