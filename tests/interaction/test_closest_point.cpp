@@ -182,6 +182,7 @@ TEST(ClosestPoint, WarmStartNeedsFewerIterations) {
     warm += w.iterations;
   }
   EXPECT_LT(warm, cold * 3 / 4) << "warm " << warm << " cold " << cold;
+  std::printf("    Newton iterations over 40 points: cold %d, warm %d\n", cold, warm);
 }
 
 }  // namespace
