@@ -36,14 +36,22 @@ double process_cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-// Best (minimum) wall time in seconds of `reps` calls: the minimum is the least disturbed by the other jobs
-// sharing the machine.
-double best_seconds(int reps, const std::function<void()>& f) {
-  double best = 1e300;
+// Wall time and CPU time summed over the process's threads, in seconds. On a machine shared with other
+// jobs the wall time of a serial pass includes time spent descheduled, the CPU time does not; on 2 threads
+// the CPU time shows the work added by parallelisation (buffers, reduction, waiting at the barrier).
+struct Timing {
+  double wall = 1e300, cpu = 1e300;
+};
+
+// Best (minimum) of `reps` calls, separately for wall and CPU time: the minimum is the least disturbed.
+Timing best_of(int reps, const std::function<void()>& f) {
+  Timing best;
   for (int i = 0; i < reps; ++i) {
+    const double c0 = process_cpu_seconds();
     const auto t0 = Clock::now();
     f();
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
+    best.wall = std::min(best.wall, std::chrono::duration<double>(Clock::now() - t0).count());
+    best.cpu = std::min(best.cpu, process_cpu_seconds() - c0);
   }
   return best;
 }
@@ -134,52 +142,55 @@ int main(int argc, char** argv) {
   std::printf("Scordelis-Lo roof, degree %d, %d x %d elements, %ld quadrature points, %d free DOFs\n",
               shell.surface.degree(0), n, n, qps, m.size());
   const int max_threads = omp_get_max_threads();
-  double t_serial = 0.0;
-  // CPU time summed over all threads, per pass: equal to the wall time on 1 thread; on 2 threads it shows
-  // the work added by parallelisation (buffers, reduction, spinning), which a busy machine cannot hide.
-  std::printf("\n| threads | residual + tangent [ms] | per qp [us] | speed-up | CPU time per pass [ms] | "
-              "residual only [ms] |\n");
-  std::printf("|---|---|---|---|---|---|\n");
+  Timing serial;
+  std::printf("\n| threads | residual + tangent: wall [ms] | CPU [ms] | per qp wall [us] | per qp CPU [us] | "
+              "speed-up (wall) | residual only: wall [ms] | CPU [ms] |\n");
+  std::printf("|---|---|---|---|---|---|---|---|\n");
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
-    m.evaluate(q, 1.0, true);  // warm-up: first-touch of the thread buffers
-    const double cpu0 = process_cpu_seconds();
-    const double t_full = best_seconds(reps, [&] { m.evaluate(q, 1.0, true); });
-    const double cpu = (process_cpu_seconds() - cpu0) / reps;
-    const double t_res = best_seconds(reps, [&] { m.evaluate(q, 1.0, false); });
-    if (threads == 1) t_serial = t_full;
-    std::printf("| %d | %.2f | %.2f | %.2f | %.2f | %.2f |\n", threads, 1e3 * t_full, 1e6 * t_full / qps,
-                t_serial / t_full, 1e3 * cpu, 1e3 * t_res);
+    m.evaluate(q, 1.0, true);  // warm-up: first touch of the thread buffers
+    const Timing full = best_of(reps, [&] { m.evaluate(q, 1.0, true); });
+    const Timing res = best_of(reps, [&] { m.evaluate(q, 1.0, false); });
+    if (threads == 1) serial = full;
+    std::printf("| %d | %.1f | %.1f | %.2f | %.2f | %.2f | %.1f | %.1f |\n", threads, 1e3 * full.wall,
+                1e3 * full.cpu, 1e6 * full.wall / qps, 1e6 * full.cpu / qps, serial.wall / full.wall,
+                1e3 * res.wall, 1e3 * res.cpu);
   }
   omp_set_num_threads(max_threads);
 
   m.evaluate(q, 1.0, true);
   const auto& k = m.tangent();
   auto solver = fibrane::solve::make_linear_solver("cholmod", true);
-  const double t_analyze = best_seconds(1, [&] { solver->analyze(k); });
+  const Timing analyze = best_of(1, [&] { solver->analyze(k); });
   bool ok = true;
-  const double t_factor = best_seconds(reps, [&] { ok = solver->factorize(k) && ok; });
+  const Timing factor = best_of(reps, [&] { ok = solver->factorize(k) && ok; });
   std::printf("\nmatrix: %ld rows, %ld nonzeros (both triangles); %s factor: %ld nonzeros%s\n",
               static_cast<long>(k.rows()), static_cast<long>(k.nonZeros()), solver->name().c_str(),
               solver->factor_nonzeros(), ok ? "" : " (FACTORISATION FAILED)");
-  std::printf("analysis %.2f ms, numeric factorisation %.2f ms; assembly (1 thread) / factorisation = %.2f\n",
-              1e3 * t_analyze, 1e3 * t_factor, t_serial / t_factor);
+  std::printf("analysis %.1f ms; numeric factorisation wall %.1f ms, CPU %.1f ms\n", 1e3 * analyze.wall,
+              1e3 * factor.wall, 1e3 * factor.cpu);
+  std::printf("assembly (1 thread) / factorisation: %.2f by wall time, %.2f by CPU time\n",
+              serial.wall / factor.wall, serial.cpu / factor.cpu);
 
-  // The parts of one serial assembly, each the best of `reps` passes interleaved with full evaluations so
+  // The parts of one serial assembly, each the best of `reps` passes, interleaved with full evaluations so
   // that all three see the same machine load.
   omp_set_num_threads(1);
   Breakdown parts(shell);
-  double t_eval = 1e300, t_basis = 1e300, t_kernel = 1e300, energy = 0.0;
+  Timing eval, basis, kernel;
+  double energy = 0.0;
   for (int i = 0; i < reps; ++i) {
-    t_eval = std::min(t_eval, best_seconds(1, [&] { m.evaluate(q, 1.0, true); }));
-    t_basis = std::min(t_basis, best_seconds(1, [&] { parts.basis_pass(); }));
-    t_kernel = std::min(t_kernel, best_seconds(1, [&] { energy += parts.kernel_pass(m.displacement(), m.dofs); }));
+    const Timing e = best_of(1, [&] { m.evaluate(q, 1.0, true); });
+    const Timing b = best_of(1, [&] { parts.basis_pass(); });
+    const Timing kk = best_of(1, [&] { energy += parts.kernel_pass(m.displacement(), m.dofs); });
+    eval.cpu = std::min(eval.cpu, e.cpu);
+    basis.cpu = std::min(basis.cpu, b.cpu);
+    kernel.cpu = std::min(kernel.cpu, kk.cpu);
   }
-  const double t_rest = t_eval - t_basis - t_kernel;
-  std::printf("\nserial breakdown (evaluate %.2f us per qp): basis_in %.2f us (%.0f%%); point kernel with gather "
-              "and zeroing %.2f us (%.0f%%); scatter, reduction and the rest %.2f us (%.0f%%)%s\n",
-              1e6 * t_eval / qps, 1e6 * t_basis / qps, 100 * t_basis / t_eval, 1e6 * t_kernel / qps,
-              100 * t_kernel / t_eval, 1e6 * t_rest / qps, 100 * t_rest / t_eval,
+  const double rest = eval.cpu - basis.cpu - kernel.cpu;
+  std::printf("\nserial breakdown by CPU time (evaluate %.2f us per qp): basis_in %.2f us (%.0f%%); point kernel "
+              "with gather and zeroing %.2f us (%.0f%%); scatter, reduction and the rest %.2f us (%.0f%%)%s\n",
+              1e6 * eval.cpu / qps, 1e6 * basis.cpu / qps, 100 * basis.cpu / eval.cpu, 1e6 * kernel.cpu / qps,
+              100 * kernel.cpu / eval.cpu, 1e6 * rest / qps, 100 * rest / eval.cpu,
               std::isfinite(energy) ? "" : " (non-finite energy)");
   return ok ? 0 : 1;
 }
