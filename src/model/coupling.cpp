@@ -149,7 +149,7 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
           out.distance = res.distance;
           out.cos_alpha = res.cos_alpha;
           out.energy_density = e / qp.weight;
-          out.force = res.force;
+          out.force = -res.force;  // the kernel's f (Eq. 73) acts on delta u_B with a plus: the physical force is -f
           out.position = p.beam_x * p.beam_basis.row(0).transpose();
         } catch (const std::domain_error&) {
           bad = true;  // the beam has entered the plate: no potential there; Newton must cut back

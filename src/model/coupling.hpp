@@ -27,7 +27,7 @@ struct CouplingPoint {
   double xi = 0, s = 0;        // beam parameter and reference arc length
   bool active = false;         // false: the projection left the shell patch (no interaction)
   double distance = 0, cos_alpha = 1, energy_density = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length on the beam
+  Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
 
 class Coupling {

@@ -2,6 +2,8 @@
 // surrogate plate describes exactly, Sec. 4.3), and the global tangent of a coupled curved state.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <random>
 
 #include "case_runner.hpp"
@@ -11,7 +13,8 @@ namespace fibrane::testing {
 namespace {
 
 // Beam of length 4 at height z above a clamped plate of thickness 0.5; LJ with sigma = 0.05.
-std::string parallel_case(double z, const std::string& formulation, int beam_elements = 8) {
+std::string parallel_case(double z_value, const std::string& formulation, int beam_elements = 8) {
+  const std::string z = fmt::format("{:.17g}", z_value);
   return R"(
 shells:
   - name: plate
@@ -21,7 +24,7 @@ shells:
     material: {young: 1000, poisson: 0.3}
 beams:
   - name: fiber
-    geometry: {line: {from: [-2, 0, )" + std::to_string(z) + R"(], to: [2, 0, )" + std::to_string(z) + R"(]}}
+    geometry: {line: {from: [-2, 0, )" + z + R"(], to: [2, 0, )" + z + R"(]}}
     refine: {degree: 3, continuity: 2, elements: )" + std::to_string(beam_elements) + R"(}
     material: {young: 1000, poisson: 0.3}
     section: {circle: {radius: 0.5}}
@@ -31,7 +34,7 @@ constraints:
   - {body: plate, at: {all: true}, fix: [x, y, z]}
   - {body: fiber, at: {all: true}, fix: [y, twist]}
   - {body: fiber, at: {end: start}, fix: [x]}
-steps: {dt: 1, t_end: 1, tolerance: 1e-13, tolerance_absolute: 1e-16}
+steps: {dt: 1, t_end: 1, tolerance: 1e-10, tolerance_absolute: 1e-11}
 output: {vtk: false}
 )";
 }
@@ -61,13 +64,14 @@ TEST(InteractionModel, ParallelBeamEnergyIsLengthTimesLaw) {
 }
 
 // A beam released slightly above the plate settles where phi_d(d, 1) = 0 (every formulation: cos a = 1
-// stays exact for a straight parallel beam). Newton is run to 1e-13 relative, so the height is exact to
-// far better than the 1e-8 asked for.
+// stays exact for a straight parallel beam). The interaction forces are ~1e-7 here while the beam's
+// elastic residual has a round-off floor of ~1e-12, so Newton stops at an absolute 1e-11; one more
+// quadratic step would change d by ~(1e-11 / phi_dd) ~ 1e-12, far below the 1e-8 relative asked for.
 TEST(InteractionModel, FreeBeamSettlesAtTheEquilibriumDistance) {
   const auto law = the_law();
   const double d_eq = law.equilibrium_distance();
   for (const char* f : {"RF2", "RF1", "FF"}) {
-    auto yaml = parallel_case(d_eq * 1.01, f);
+    auto yaml = parallel_case(d_eq * 1.001, f);  // inside the convex well (the gap is ~5% of d)
     yaml.replace(yaml.find("constraints:"), 12,
                  "monitors:\n  - {name: z_mid, type: position, body: fiber, at: {xi: 0.5}, component: z}\nconstraints:");
     const auto r = run_yaml(std::string("settle-") + f, yaml);
