@@ -27,6 +27,7 @@ struct BeamBody {
   spline::NurbsCurve curve;  // reference axis after refinement
   beam::BeamSection section;
   Eigen::Vector3d director = Eigen::Vector3d::Zero();  // a2 hint; zero: rotation-minimising frame
+  double section_radius = 0.0;  // radius of a circular section (interactions need it); 0: other section
   int block = -1;
   int gauss_points = 0;  // 0 means degree + 1
   std::vector<BeamElement> elements;

@@ -1,11 +1,13 @@
 #include "model/case_reader.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "common/error.hpp"
 
 #include "model/case_conditions.hpp"
 #include "model/case_geometry.hpp"
+#include "model/results.hpp"
 
 namespace fibrane::model {
 
@@ -53,12 +55,12 @@ void read_shell(Model& m, const io::YamlNode& node) {
   m.add_shell(std::move(body));
 }
 
-beam::BeamSection read_section(const io::YamlNode& node, double young, double poisson) {
+beam::BeamSection read_section(const io::YamlNode& node, double young, double poisson, double& radius) {
   if (auto c = node.optional("circle")) {
-    const double r = (*c)["radius"].positive();
+    radius = (*c)["radius"].positive();
     c->reject_unknown_keys();
     node.reject_unknown_keys();
-    return beam::BeamSection::circular(young, poisson, r);
+    return beam::BeamSection::circular(young, poisson, radius);
   }
   const double area = node["area"].positive();
   const double i2 = node["inertia2"].positive(), i3 = node["inertia3"].positive();
@@ -74,16 +76,55 @@ void read_beam(Model& m, const io::YamlNode& node) {
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
   mat.reject_unknown_keys();
-  const auto section = read_section(node["section"], young, poisson);
+  double radius = 0.0;
+  const auto section = read_section(node["section"], young, poisson, radius);
   Eigen::Vector3d director = Eigen::Vector3d::Zero();
   if (auto d = node.optional("director")) {
     director = d->as_vector3();
     if (director.norm() == 0.0) d->fail("a non-zero vector");
   }
   BeamBody body(name, std::move(curve), section, director);
+  body.section_radius = radius;
   if (auto g = node.optional("gauss_points")) body.gauss_points = g->positive_int();
   node.reject_unknown_keys();
   m.add_beam(std::move(body));
+}
+
+void read_interaction(Model& m, const io::YamlNode& node) {
+  const auto beam_node = node["beam"], shell_node = node["shell"];
+  int beam = -1, shell = -1;
+  for (std::size_t i = 0; i < m.beams.size(); ++i)
+    if (m.beams[i].name == beam_node.as_string()) beam = static_cast<int>(i);
+  for (std::size_t i = 0; i < m.shells.size(); ++i)
+    if (m.shells[i].name == shell_node.as_string()) shell = static_cast<int>(i);
+  if (beam < 0) beam_node.fail("the name of a beam defined in this case");
+  if (shell < 0) shell_node.fail("the name of a shell defined in this case");
+  const auto& b = m.beams[beam];
+  if (b.section_radius <= 0.0)
+    beam_node.fail_message("beam '" + b.name + "' needs a circular section (section: {circle: {radius: R}}): the "
+                           "disk-plate law integrates over a disk");
+  const std::string name = node.get("name", b.name + "_" + m.shells[shell].name);
+  const std::string f = node.get("formulation", std::string("RF2"));
+  if (auto fn = node.optional("formulation")) fn->as_choice({"FF", "RF1", "RF2"});
+  const auto formulation = f == "FF" ? interaction::Formulation::FF
+                           : f == "RF1" ? interaction::Formulation::RF1 : interaction::Formulation::RF2;
+  auto ff_tangent = interaction::FfTangent::exact;
+  if (auto t = node.optional("ff_tangent"))
+    ff_tangent = t->as_choice({"exact", "rf1"}) == "rf1" ? interaction::FfTangent::rf1 : interaction::FfTangent::exact;
+  const auto lj = node["lennard_jones"];
+  laws::LennardJonesDiskPlate law;
+  law.epsilon = lj["epsilon"].positive();
+  law.sigma = lj["sigma"].positive();
+  law.density_beam = lj.has("density_beam") ? lj["density_beam"].positive() : 1.0;
+  law.density_shell = lj.has("density_shell") ? lj["density_shell"].positive() : 1.0;
+  law.strength = lj.has("strength") ? lj["strength"].positive() : 1.0;
+  law.disk_radius = b.section_radius;
+  law.plate_thickness = m.shells[shell].section.thickness;
+  lj.reject_unknown_keys();
+  node.reject_unknown_keys();
+  for (const auto& c : m.couplings)
+    if (c.name() == name) node["name"].fail("an interaction name not used before");
+  m.couplings.emplace_back(name, beam, shell, law, formulation, ff_tangent, b, m.shells[shell]);
 }
 
 void check_unique_names(const Model& m, const io::YamlNode& root) {
@@ -119,6 +160,11 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
   s.max_steps = node->get("max_steps", s.max_steps);
   run.linear = node->get("linear", run.linear);
+  if (auto stop = node->optional("stop")) {
+    run.stop_column = (*stop)["column"].as_string();
+    run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
+    stop->reject_unknown_keys();
+  }
   s.extrapolate = node->get("extrapolate", s.extrapolate);
   run.newton.max_iterations = node->get("max_iterations", run.newton.max_iterations);
   run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);
@@ -156,8 +202,17 @@ Case read_case(const std::string& path) {
   check_unique_names(m, root);
   for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) { read_constraint(m, n); });
   for_each_entry(root.optional("loads"), [&](const io::YamlNode& n) { read_load(m, n); });
+  for_each_entry(root.optional("interactions"), [&](const io::YamlNode& n) { read_interaction(m, n); });
   for_each_entry(root.optional("monitors"), [&](const io::YamlNode& n) { read_monitor(m, n); });
   read_steps(c.run, root.optional("steps"));
+  if (!c.run.stop_column.empty()) {
+    const auto columns = history_columns(m);
+    if (std::find(columns.begin(), columns.end(), c.run.stop_column) == columns.end()) {
+      std::string known;
+      for (const auto& k : columns) known += (known.empty() ? "" : ", ") + k;
+      root["steps"]["stop"]["column"].fail("a history column (" + known + ")");
+    }
+  }
   read_output(c.output, root.optional("output"), c.name);
   root.reject_unknown_keys();
   try {

@@ -23,6 +23,10 @@ struct RunSettings {
   solve::NewtonOptions newton;
   std::string linear_solver = "auto";
   bool linear = false;  // one Newton step from the reference state at t_end: the linearised problem
+  // Stop early once |history column| falls below this fraction of its largest magnitude so far (e.g. the
+  // interaction energy at pull-off). Empty: run to t_end.
+  std::string stop_column;
+  double stop_fraction = 0.0;
 };
 
 struct Case {

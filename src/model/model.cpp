@@ -3,7 +3,10 @@
 #include "shell/edge_moment.hpp"
 #include "spline/quadrature.hpp"
 
+#include <chrono>
 #include <cmath>
+#include <limits>
+#include <span>
 #include <stdexcept>
 
 namespace fibrane::model {
@@ -46,21 +49,65 @@ void Model::finalize() {
     const auto all = shells[em.shell].element_dofs(dofs);
     for (int e : em.elements) element_dofs_.push_back(all[e]);
   }
-  assembler_.set_pattern(constraints, element_dofs_);
+  base_elements_ = static_cast<int>(element_dofs_.size());
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
+  for (auto& c : couplings) c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
+  rebuild_pattern();
   finalized_ = true;
+}
+
+void Model::rebuild_pattern() {
+  element_dofs_.resize(base_elements_);
+  coupling_first_element_.clear();
+  for (const auto& c : couplings) {
+    coupling_first_element_.push_back(static_cast<int>(element_dofs_.size()));
+    for (auto& d : c.pair_dofs(beams[c.beam()], shells[c.shell()], dofs)) element_dofs_.push_back(std::move(d));
+  }
+  assembler_.set_pattern(constraints, element_dofs_);
+}
+
+bool Model::symmetric() const {
+  for (const auto& c : couplings)
+    if (!c.symmetric()) return false;
+  return true;
 }
 
 void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");
+  using clock = std::chrono::steady_clock;
+  auto lap = [last = clock::now()](double& into) mutable {
+    const auto now = clock::now();
+    into += std::chrono::duration<double>(now - last).count();
+    last = now;
+  };
+  ++times_.evaluations;
+  if (with_tangent) ++times_.tangents;
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
+  bool pairs_changed = false;
+  for (auto& c : couplings) pairs_changed |= c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
+  lap(times_.projection);
+  if (pairs_changed) {
+    rebuild_pattern();
+    ++times_.pattern_rebuilds;
+  }
   assembler_.begin(with_tangent);
+  lap(times_.pattern);
   energy_ = 0.0;
   for (std::size_t i = 0; i < shells.size(); ++i)
     energy_ += shells[i].assemble(u_, dofs, assembler_, shell_first_element_[i], with_tangent);
+  lap(times_.shell);
   for (std::size_t i = 0; i < beams.size(); ++i)
     energy_ += beams[i].assemble(u_, dofs, assembler_, beam_first_element_[i], with_tangent);
+  lap(times_.beam);
+  bool invalid = false;
+  for (std::size_t i = 0; i < couplings.size(); ++i) {
+    auto& c = couplings[i];
+    bool bad = false;
+    c.assemble(beams[c.beam()], shells[c.shell()], u_, dofs, assembler_, coupling_first_element_[i], with_tangent, bad);
+    invalid |= bad;
+  }
+  lap(times_.interaction);
   for (std::size_t i = 0; i < moments.size(); ++i) {
     const auto& m = moments[i];
     const auto& b = beams[m.beam];
@@ -76,6 +123,13 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   }
   for (std::size_t i = 0; i < edge_moments.size(); ++i)
     assemble_edge_moment(edge_moments[i], edge_moment_first_element_[i], with_tangent);
+  if (invalid) {
+    // A state outside the interaction law's domain (the beam inside the plate) has no residual: report a
+    // non-finite one so that Newton fails cleanly and the continuation cuts the step back.
+    const int dof0 = 0;
+    assembler_.add_vector(std::span<const int>(&dof0, 1),
+                          Eigen::VectorXd::Constant(1, std::numeric_limits<double>::quiet_NaN()));
+  }
   double load_sq = 0.0;
   for (const auto& l : nodal_loads) {
     const double f = functions(l.function, t);
@@ -84,6 +138,7 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   }
   load_scale_ = std::sqrt(load_sq);
   assembler_.end();
+  lap(times_.other);
 }
 
 void Model::assemble_edge_moment(const EdgeMoment& em, int first_element, bool with_tangent) {
@@ -118,6 +173,7 @@ void Model::assemble_edge_moment(const EdgeMoment& em, int first_element, bool w
 void Model::accept(const Eigen::VectorXd& q, double t) {
   u_ = constraints.expand(q, t, curve_eval());
   for (auto& b : beams) b.accept(u_, dofs);
+  for (auto& c : couplings) c.accept();
   for (auto& m : moments) {
     const auto& b = beams[m.beam];
     const beam::BeamDofs qe = b.current(b.elements[m.element].control_points, u_, dofs);

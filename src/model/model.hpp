@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/beam_body.hpp"
+#include "model/coupling.hpp"
 #include "model/load_function.hpp"
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
@@ -52,6 +53,12 @@ struct Monitor {
   double offset = 0.0;
 };
 
+// Wall time spent in each phase of evaluate(), accumulated (seconds), for bench/ and the summary.
+struct PhaseTimes {
+  double shell = 0, beam = 0, projection = 0, interaction = 0, pattern = 0, other = 0;
+  int evaluations = 0, tangents = 0, pattern_rebuilds = 0;
+};
+
 class Model : public solve::NonlinearSystem {
  public:
   std::string title;
@@ -62,6 +69,7 @@ class Model : public solve::NonlinearSystem {
   std::vector<PointMoment> moments;
   std::vector<EdgeMoment> edge_moments;
   std::vector<Monitor> monitors;
+  std::vector<Coupling> couplings;
   solve::DofMap dofs;
   solve::ConstraintSet constraints;
 
@@ -81,6 +89,7 @@ class Model : public solve::NonlinearSystem {
   int pattern_version() const override { return assembler_.pattern_version(); }
   void accept(const Eigen::VectorXd& q, double t) override;
   double residual_scale() const override { return load_scale_; }
+  bool symmetric() const override;
 
   // State of the last evaluate().
   const Eigen::VectorXd& displacement() const { return u_; }
@@ -89,6 +98,8 @@ class Model : public solve::NonlinearSystem {
   double time() const { return t_; }
   double monitor_value(const Monitor& m) const;
   int num_elements() const { return static_cast<int>(element_dofs_.size()); }
+  const PhaseTimes& times() const { return times_; }
+  void reset_times() { times_ = PhaseTimes{}; }
 
  private:
   solve::SparseAssembler assembler_;
@@ -96,10 +107,14 @@ class Model : public solve::NonlinearSystem {
   std::vector<int> shell_first_element_, beam_first_element_;
   int moment_first_element_ = 0;
   std::vector<int> edge_moment_first_element_;
+  int base_elements_ = 0;  // elements that never change; coupling pairs follow
+  std::vector<int> coupling_first_element_;
+  void rebuild_pattern();
   void assemble_edge_moment(const EdgeMoment& em, int first_element, bool with_tangent);
   Eigen::VectorXd u_;
   double t_ = 0.0, energy_ = 0.0, load_scale_ = 0.0;
   bool finalized_ = false;
+  PhaseTimes times_;
 };
 
 }  // namespace fibrane::model

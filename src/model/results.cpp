@@ -97,25 +97,61 @@ io::VtuMesh beam_vtu(const Model& m, const BeamBody& b, int samples) {
   return mesh;
 }
 
+io::VtuMesh coupling_vtu(const Coupling& c) {
+  io::VtuMesh mesh;
+  io::VtuMesh::Field xi{"xi", 1, {}}, s{"s", 1, {}}, d{"distance", 1, {}}, cos{"cos_alpha", 1, {}},
+      f{"force", 3, {}}, fm{"force_magnitude", 1, {}};
+  for (const auto& p : c.points()) {
+    if (!p.active) continue;
+    mesh.add_cell(io::vtk_cell::vertex, {static_cast<int>(mesh.points.size())});
+    mesh.points.push_back(p.position);
+    xi.values.push_back(p.xi);
+    s.values.push_back(p.s);
+    d.values.push_back(p.distance);
+    cos.values.push_back(p.cos_alpha);
+    push3(f.values, p.force);
+    fm.values.push_back(p.force.norm());
+  }
+  mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm)};
+  return mesh;
+}
+
+std::vector<std::string> history_columns(const Model& m) {
+  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual", "strain_energy"};
+  for (const auto& c : m.couplings)
+    for (const char* suffix : {"_energy", "_force_x", "_force_y", "_force_z"}) columns.push_back(c.name() + suffix);
+  for (const auto& mon : m.monitors) columns.push_back(mon.name);
+  return columns;
+}
+
 RunOutput::RunOutput(const Case& c, std::string directory) : case_(c), dir_(std::move(directory)) {
   namespace fs = std::filesystem;
   fs::create_directories(fs::path(dir_) / "vtk");
-  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual", "strain_energy"};
-  for (const auto& mon : c.model->monitors) columns.push_back(mon.name);
-  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(), columns);
+  if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
+  columns_ = history_columns(*c.model);
+  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(), columns_);
   if (c.output.vtk) {
     for (const auto& s : c.model->shells) series_.emplace_back((fs::path(dir_) / (s.name + ".pvd")).string());
     for (const auto& b : c.model->beams) series_.emplace_back((fs::path(dir_) / (b.name + ".pvd")).string());
+    for (const auto& k : c.model->couplings) series_.emplace_back((fs::path(dir_) / (k.name() + ".pvd")).string());
   }
 }
 
-void RunOutput::write_step(const Model& m, const solve::StepReport& r, bool force_vtk) {
+void RunOutput::write_history(const Model& m, const solve::StepReport& r) {
   std::vector<double> row{static_cast<double>(r.step), r.t, m.functions(0, r.t), static_cast<double>(r.iterations),
                           r.residual_norm, m.strain_energy()};
+  for (const auto& c : m.couplings) {
+    const Eigen::Vector3d f = c.total_force();
+    row.insert(row.end(), {c.energy(), f.x(), f.y(), f.z()});
+  }
   for (const auto& mon : m.monitors) row.push_back(m.monitor_value(mon));
   history_->row(row);
-  const bool vtk_now = case_.output.vtk && (force_vtk || r.step % case_.output.vtk_every == 0);
-  if (!vtk_now) return;
+  last_row_ = row;
+  for (const auto& c : m.couplings) write_coupling_csv(c, r.step);
+}
+
+void RunOutput::write_vtk(const Model& m, const solve::StepReport& r) {
+  if (!case_.output.vtk) return;
   std::size_t k = 0;
   auto write = [&](const std::string& name, const io::VtuMesh& mesh) {
     const std::string rel = fmt::format("vtk/{}_{:06d}.vtu", name, r.step);
@@ -124,7 +160,26 @@ void RunOutput::write_step(const Model& m, const solve::StepReport& r, bool forc
   };
   for (const auto& s : m.shells) write(s.name, shell_vtu(m, s, case_.output.samples));
   for (const auto& b : m.beams) write(b.name, beam_vtu(m, b, case_.output.samples));
+  for (const auto& c : m.couplings) write(c.name(), coupling_vtu(c));
   ++steps_written_;
+}
+
+double RunOutput::last_value(const std::string& column) const {
+  for (std::size_t i = 0; i < columns_.size() && i < last_row_.size(); ++i)
+    if (columns_[i] == column) return last_row_[i];
+  throw std::invalid_argument("no history column named '" + column + "'");
+}
+
+void RunOutput::write_coupling_csv(const Coupling& c, int step) const {
+  std::string text = "xi,s,active,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density\n";
+  for (const auto& p : c.points())
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
+                        p.active ? 1 : 0, io::format_double(p.distance), io::format_double(p.cos_alpha),
+                        io::format_double(p.force.x()), io::format_double(p.force.y()),
+                        io::format_double(p.force.z()), io::format_double(p.force.norm()),
+                        io::format_double(p.energy_density));
+  io::write_file_atomic(
+      (std::filesystem::path(dir_) / "interaction" / fmt::format("{}_{:06d}.csv", c.name(), step)).string(), text);
 }
 
 void RunOutput::write_summary(const Model& m, const solve::ContinuationResult& result, double wall_seconds,

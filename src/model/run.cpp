@@ -24,7 +24,9 @@ RunSummary run_case(Case& c, const RunOptions& options) {
 
   Eigen::VectorXd q = m.initial_unknowns();
   m.evaluate(q, c.run.steps.t_start, false);
-  out.write_step(m, solve::StepReport{0, c.run.steps.t_start, 0.0, 0, m.residual().norm(), 0, {}}, true);
+  const solve::StepReport initial{0, c.run.steps.t_start, 0.0, 0, m.residual().norm(), 0, {}};
+  out.write_history(m, initial);
+  out.write_vtk(m, initial);
 
   std::ostringstream quiet_sink;
   io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
@@ -37,19 +39,37 @@ RunSummary run_case(Case& c, const RunOptions& options) {
     if (!solver->factorize(m.tangent())) throw std::runtime_error("the linear system is singular");
     q -= solver->solve(m.residual());
     m.evaluate(q, t, false);
-    out.write_step(m, solve::StepReport{1, t, t, 1, m.residual().norm(), 0, {}}, true);
+    const solve::StepReport report{1, t, t, 1, m.residual().norm(), 0, {}};
+    out.write_history(m, report);
+    out.write_vtk(m, report);
     summary.result = {true, t, 1, 1, "linear analysis"};
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
     return summary;
   }
+  double peak = 0.0;
+  if (!c.run.stop_column.empty()) peak = std::abs(out.last_value(c.run.stop_column));
+  bool stopped_by_condition = false;
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
   summary.result = solve::run_continuation(
       m, q, c.run.steps, c.run.newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
-        out.write_step(m, r, r.t >= t_last);
+        out.write_history(m, r);
+        bool stop = false;
+        if (!c.run.stop_column.empty()) {
+          const double v = std::abs(out.last_value(c.run.stop_column));
+          peak = std::max(peak, v);
+          stop = v < c.run.stop_fraction * peak;
+        }
+        if (r.t >= t_last || stop || out.vtk_due(r.step)) out.write_vtk(m, r);
         progress.update(r.step, r.t, r.iterations, r.residual_norm);
-        return true;
+        if (stop) stopped_by_condition = true;
+        return !stop;
       });
+  if (stopped_by_condition) {
+    summary.result.completed = true;
+    summary.result.message = "stopped: " + c.run.stop_column + " fell below " + std::to_string(c.run.stop_fraction) +
+                             " of its peak";
+  }
   progress.finish(summary.result.completed ? "done" : "stopped: " + summary.result.message);
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.write_summary(m, summary.result, summary.wall_seconds, solver->name());

@@ -1,0 +1,158 @@
+// Where a Newton iteration spends its time, for any case and mesh:
+//   bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--replace FROM TO]...
+// runs the case's continuation (no output files) and prints one table: DOFs, matrix and factor non-zeros,
+// and per Newton iteration the time of shell assembly, beam assembly, interaction (projection/search and
+// assembly), pattern work, the rest of the evaluation, symbolic analysis, numeric factorisation and solve,
+// plus the Newton iterations per step and the peak memory.
+#include <omp.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "model/case_reader.hpp"
+#include "solve/continuation.hpp"
+#include "solve/linear_solver.hpp"
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+double seconds_since(clock_type::time_point t0) {
+  return std::chrono::duration<double>(clock_type::now() - t0).count();
+}
+
+// Forwards to a real solver and times each phase.
+class TimedSolver : public fibrane::solve::LinearSolver {
+ public:
+  explicit TimedSolver(std::unique_ptr<fibrane::solve::LinearSolver> inner) : inner_(std::move(inner)) {}
+  void analyze(const Eigen::SparseMatrix<double>& a) override {
+    const auto t0 = clock_type::now();
+    inner_->analyze(a);
+    analyze_ += seconds_since(t0);
+    ++analyses;
+  }
+  bool factorize(const Eigen::SparseMatrix<double>& a) override {
+    const auto t0 = clock_type::now();
+    const bool ok = inner_->factorize(a);
+    factorize_ += seconds_since(t0);
+    ++factorizations;
+    nnz = a.nonZeros();
+    return ok;
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    const auto t0 = clock_type::now();
+    Eigen::VectorXd x = inner_->solve(b);
+    solve_ += seconds_since(t0);
+    return x;
+  }
+  std::string name() const override { return inner_->name(); }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+
+  double analyze_ = 0, factorize_ = 0;
+  mutable double solve_ = 0;
+  int analyses = 0, factorizations = 0;
+  long nnz = 0;
+
+ private:
+  std::unique_ptr<fibrane::solve::LinearSolver> inner_;
+};
+
+long peak_memory_kib() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr << "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--replace FROM TO]...\n";
+    return 2;
+  }
+  std::string path = argv[1];
+  double t_end = -1;
+  std::vector<std::pair<std::string, std::string>> edits;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--t-end" && i + 1 < argc) t_end = std::stod(argv[++i]);
+    else if (a == "--threads" && i + 1 < argc) omp_set_num_threads(std::stoi(argv[++i]));
+    else if (a == "--replace" && i + 2 < argc) {
+      edits.emplace_back(argv[i + 1], argv[i + 2]);
+      i += 2;
+    } else {
+      std::cerr << "unknown argument " << a << "\n";
+      return 2;
+    }
+  }
+  if (!edits.empty()) {
+    std::ifstream in(path);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    std::string text = ss.str();
+    for (const auto& [from, to] : edits) {
+      const auto at = text.find(from);
+      if (at == std::string::npos) {
+        std::cerr << "--replace: '" << from << "' not found in " << path << "\n";
+        return 2;
+      }
+      text.replace(at, from.size(), to);
+    }
+    const auto edited = std::filesystem::temp_directory_path() / "bench_newton_breakdown.yaml";
+    std::ofstream(edited) << text;
+    path = edited.string();
+  }
+  auto c = fibrane::model::read_case(path);
+  auto& m = *c.model;
+  if (t_end > 0) c.run.steps.t_end = t_end;
+  TimedSolver solver(fibrane::solve::make_linear_solver(c.run.linear_solver, m.symmetric()));
+  Eigen::VectorXd q = m.initial_unknowns();
+  m.reset_times();
+  std::vector<int> iterations;
+  const auto t0 = clock_type::now();
+  const auto result = fibrane::solve::run_continuation(
+      m, q, c.run.steps, c.run.newton, solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
+        iterations.push_back(r.iterations);
+        return true;
+      });
+  const double wall = seconds_since(t0);
+  const auto& pt = m.times();
+  const int n = std::max(1, pt.tangents);
+  const double per = 1e3 / n;  // milliseconds per Newton iteration (= per tangent evaluation)
+  double mean_iterations = 0;
+  for (int k : iterations) mean_iterations += k;
+  if (!iterations.empty()) mean_iterations /= iterations.size();
+  const double not_factorisation = pt.shell + pt.beam + pt.projection + pt.interaction + pt.pattern + pt.other +
+                                   solver.analyze_ + solver.solve_;
+  fmt::print("case {}: {} ({}, {} threads)\n", c.path, result.completed ? "completed" : result.message,
+             solver.name(), omp_get_max_threads());
+  fmt::print("| quantity | value |\n|---|---|\n");
+  fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
+  fmt::print("| matrix non-zeros | {} |\n| factor non-zeros | {} |\n", solver.nnz, solver.factor_nonzeros());
+  fmt::print("| steps / Newton iterations / mean per step | {} / {} / {:.2f} |\n", iterations.size(), pt.tangents,
+             mean_iterations);
+  fmt::print("| shell assembly per iteration | {:.2f} ms |\n", pt.shell * per);
+  fmt::print("| beam assembly per iteration | {:.2f} ms |\n", pt.beam * per);
+  fmt::print("| interaction search + projection | {:.2f} ms |\n", pt.projection * per);
+  fmt::print("| interaction assembly | {:.2f} ms |\n", pt.interaction * per);
+  fmt::print("| pattern rebuilds (count) / time per iteration | {} / {:.2f} ms |\n", pt.pattern_rebuilds,
+             pt.pattern * per);
+  fmt::print("| loads, moments, reduction | {:.2f} ms |\n", pt.other * per);
+  fmt::print("| symbolic analyses (count) / time per iteration | {} / {:.2f} ms |\n", solver.analyses,
+             solver.analyze_ * per);
+  fmt::print("| numeric factorisation per iteration | {:.2f} ms |\n", solver.factorize_ * per);
+  fmt::print("| solve per iteration | {:.2f} ms |\n", solver.solve_ * per);
+  fmt::print("| everything but factorisation / factorisation | {:.3f} |\n",
+             solver.factorize_ > 0 ? not_factorisation / solver.factorize_ : 0.0);
+  fmt::print("| residual-only evaluations | {} |\n", pt.evaluations - pt.tangents);
+  fmt::print("| wall time | {:.2f} s |\n| peak memory | {:.1f} MiB |\n", wall, peak_memory_kib() / 1024.0);
+  return result.completed ? 0 : 1;
+}

@@ -1,0 +1,173 @@
+#include "model/coupling.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "model/beam_body.hpp"
+#include "model/shell_body.hpp"
+#include "solve/assembler.hpp"
+#include "solve/dof_map.hpp"
+#include "spline/quadrature.hpp"
+#include "spline/surface_third.hpp"
+
+namespace fibrane::model {
+
+namespace {
+
+// Reference arc length from xi0 to xi (10-point Gauss is exact to round-off on one element of a
+// smooth axis for the purpose of output coordinates).
+double arc_length(const spline::NurbsCurve& c, double xi0, double xi) {
+  static const auto g = spline::gauss_legendre(10);
+  double s = 0;
+  const double j = 0.5 * (xi - xi0);
+  for (std::size_t q = 0; q < g.points.size(); ++q)
+    s += g.weights[q] * j * c.derivative(xi0 + (g.points[q] + 1.0) * j, 1).norm();
+  return s;
+}
+
+std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
+  std::vector<Eigen::Vector3d> x = s.surface.control_points();
+  for (int cp = 0; cp < s.num_control_points(); ++cp)
+    for (int c = 0; c < 3; ++c) x[cp][c] += u[dofs.dof(s.block, cp, c)];
+  return x;
+}
+
+}  // namespace
+
+Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDiskPlate law, interaction::Formulation f,
+                   interaction::FfTangent ff_tangent, const BeamBody& b, const ShellBody& s)
+    : name_(std::move(name)), beam_(beam), shell_(shell), law_(law), formulation_(f), ff_tangent_(ff_tangent),
+      proximity_(s.surface) {
+  const auto g = spline::gauss_legendre(b.gauss());
+  double s_start = 0;
+  for (std::size_t e = 0; e < b.elements.size(); ++e) {
+    const auto& el = b.elements[e];
+    const double j = 0.5 * (el.xi1 - el.xi0);
+    for (std::size_t q = 0; q < g.points.size(); ++q) {
+      const double xi = el.xi0 + (g.points[q] + 1.0) * j;
+      // Eq. (5) integrates over the reference arc length: weight = Gauss weight x dxi/dxi_parent x J_B.
+      const double weight = g.weights[q] * j * b.curve.derivative(xi, 1).norm();
+      quad_.push_back({static_cast<int>(e), xi, weight, s_start + arc_length(b.curve, el.xi0, xi)});
+    }
+    s_start += arc_length(b.curve, el.xi0, el.xi1);
+  }
+  projection_.resize(quad_.size());
+  warm_.assign(quad_.size(), std::nullopt);
+  last_ = warm_;
+  points_.resize(quad_.size());
+}
+
+bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
+  proximity_.update(current_points(s, u, dofs));
+  const int n = static_cast<int>(quad_.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int i = 0; i < n; ++i) {
+    const auto& qp = quad_[i];
+    const auto q = b.current(b.elements[qp.element].control_points, u, dofs);
+    const auto basis = b.curve.basis(qp.xi, 0);
+    const Eigen::Vector3d r = q.topRows<3>() * basis.R.row(0).transpose();
+    projection_[i] = proximity_.project(r, warm_[i]);
+    const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
+    last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
+                      : std::nullopt;
+  }
+  std::vector<std::pair<int, int>> pairs;
+  for (int i = 0; i < n; ++i)
+    if (projection_[i].where == interaction::ShellProximity::Projection::Where::interior)
+      pairs.emplace_back(quad_[i].element, projection_[i].element);
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  const bool changed = pairs != pairs_;
+  pairs_ = std::move(pairs);
+  pair_points_.assign(pairs_.size(), {});
+  for (int i = 0; i < n; ++i) {
+    if (projection_[i].where != interaction::ShellProximity::Projection::Where::interior) continue;
+    const auto key = std::make_pair(quad_[i].element, projection_[i].element);
+    const auto it = std::lower_bound(pairs_.begin(), pairs_.end(), key);
+    pair_points_[it - pairs_.begin()].push_back(i);
+  }
+  return changed;
+}
+
+std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const ShellBody& s,
+                                                  const solve::DofMap& dofs) const {
+  std::vector<std::vector<int>> out;
+  out.reserve(pairs_.size());
+  for (const auto& [eb, es] : pairs_) {
+    std::vector<int> d;
+    for (int cp : b.elements[eb].control_points)
+      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
+    for (int cp : s.element_control_points[es])
+      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
+    out.push_back(std::move(d));
+  }
+  return out;
+}
+
+double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs,
+                          solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid) {
+  const int n_pairs = static_cast<int>(pairs_.size());
+  for (std::size_t i = 0; i < quad_.size(); ++i) {
+    auto& out = points_[i];
+    out = CouplingPoint{};
+    out.xi = quad_[i].xi;
+    out.s = quad_[i].s;
+  }
+  double energy = 0;
+  bool bad = false;
+  const bool need_third = formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact;
+#pragma omp parallel reduction(+ : energy) reduction(|| : bad)
+  {
+    Eigen::VectorXd r;
+    Eigen::MatrixXd k;
+    interaction::PairPoint p;
+#pragma omp for schedule(dynamic, 4)
+    for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
+      const auto [eb, es] = pairs_[k_pair];
+      const auto& bel = b.elements[eb];
+      const auto& sel = s.elements[es];
+      const auto qb = b.current(bel.control_points, u, dofs);
+      p.beam_x = qb.topRows<3>();
+      p.shell_x = s.current(s.element_control_points[es], u, dofs);
+      const int n = 4 * static_cast<int>(bel.control_points.size()) + 3 * static_cast<int>(p.shell_x.cols());
+      r.setZero(n);
+      if (with_tangent) k.setZero(n, n);
+      for (int i : pair_points_[k_pair]) {
+        const auto& qp = quad_[i];
+        const auto& proj = projection_[i];
+        p.beam_basis = b.curve.basis(qp.xi, 1).R.topRows(2);
+        p.shell_basis = s.surface.basis_in(sel.span_u, sel.span_v, proj.u, proj.v).R;
+        if (need_third) p.shell_basis3 = spline::basis3_in(s.surface, sel.span_u, sel.span_v, proj.u, proj.v).R;
+        p.weight = qp.weight;
+        try {
+          double e = 0;
+          const auto res = interaction::add_sbs_point(law_, formulation_, ff_tangent_, p, &e, &r,
+                                                      with_tangent ? &k : nullptr);
+          energy += e;
+          auto& out = points_[i];
+          out.active = true;
+          out.distance = res.distance;
+          out.cos_alpha = res.cos_alpha;
+          out.energy_density = e / qp.weight;
+          out.force = -res.force;  // the kernel's f (Eq. 73) acts on delta u_B with a plus: the physical force is -f
+          out.position = p.beam_x * p.beam_basis.row(0).transpose();
+        } catch (const std::domain_error&) {
+          bad = true;  // the beam has entered the plate: no potential there; Newton must cut back
+        }
+      }
+      a.add(first_element + k_pair, r, with_tangent ? &k : nullptr);
+    }
+  }
+  invalid = bad;
+  energy_ = energy;
+  return energy;
+}
+
+Eigen::Vector3d Coupling::total_force() const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < quad_.size(); ++i)
+    if (points_[i].active) f += quad_[i].weight * points_[i].force;
+  return f;
+}
+
+}  // namespace fibrane::model

@@ -1,0 +1,80 @@
+#pragma once
+// The SBS coupling of one beam and one shell (Sec. 5): at every beam quadrature point the closest point
+// on the current shell is found, and the point kernel of src/interaction adds the disk-surrogate plate
+// potential (Eq. 5) to the pair (beam element, shell element) that holds the two points.
+#include <Eigen/Dense>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "interaction/closest_point.hpp"
+#include "interaction/sbs_point.hpp"
+#include "laws/lennard_jones.hpp"
+
+namespace fibrane::solve {
+class DofMap;
+class SparseAssembler;
+}  // namespace fibrane::solve
+
+namespace fibrane::model {
+
+struct BeamBody;
+struct ShellBody;
+
+// What one beam quadrature point sees, for output.
+struct CouplingPoint {
+  double xi = 0, s = 0;        // beam parameter and reference arc length
+  bool active = false;         // false: the projection left the shell patch (no interaction)
+  double distance = 0, cos_alpha = 1, energy_density = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
+};
+
+class Coupling {
+ public:
+  Coupling(std::string name, int beam, int shell, laws::LennardJonesDiskPlate law, interaction::Formulation f,
+           interaction::FfTangent ff_tangent, const BeamBody& b, const ShellBody& s);
+
+  const std::string& name() const { return name_; }
+  int beam() const { return beam_; }
+  int shell() const { return shell_; }
+  const laws::LennardJonesDiskPlate& law() const { return law_; }
+  interaction::Formulation formulation() const { return formulation_; }
+  bool symmetric() const { return formulation_ == interaction::Formulation::RF2 ||
+                                  (formulation_ == interaction::Formulation::FF &&
+                                   ff_tangent_ == interaction::FfTangent::exact); }
+
+  // Step 1 of an evaluation: project every beam quadrature point onto the current shell and collect the
+  // (beam element, shell element) pairs. Returns true if the pair set differs from the previous one.
+  bool project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs);
+  // DOF lists of the current pairs (beam element DOFs followed by shell element DOFs).
+  std::vector<std::vector<int>> pair_dofs(const BeamBody& b, const ShellBody& s, const solve::DofMap& dofs) const;
+  // Step 2: adds every pair's residual (and tangent); pair element ids start at `first_element`. Returns
+  // the interaction energy; sets `invalid` when a point's state lies outside the law's domain.
+  double assemble(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs,
+                  solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid);
+  // After a converged step: warm starts for the next projections.
+  void accept() { warm_ = last_; }
+
+  const std::vector<CouplingPoint>& points() const { return points_; }
+  double energy() const { return energy_; }
+  Eigen::Vector3d total_force() const;  // integral of the force per length over the beam
+
+ private:
+  struct QuadPoint { int element; double xi, weight, s; };
+  std::string name_;
+  int beam_, shell_;
+  laws::LennardJonesDiskPlate law_;
+  interaction::Formulation formulation_;
+  interaction::FfTangent ff_tangent_;
+  interaction::ShellProximity proximity_;
+  std::vector<QuadPoint> quad_;  // every beam quadrature point, in beam order
+  std::vector<interaction::ShellProximity::Projection> projection_;
+  std::vector<std::optional<Eigen::Vector2d>> warm_, last_;
+  std::vector<std::pair<int, int>> pairs_;          // (beam element, shell element), sorted
+  std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
+  std::vector<CouplingPoint> points_;
+  double energy_ = 0;
+};
+
+}  // namespace fibrane::model
