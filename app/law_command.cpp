@@ -1,6 +1,128 @@
-// Placeholder until the 'law' subcommand lands.
+// `fibrane law KIND ...`: evaluate one interaction law and print a JSON object (docs/laws.md).
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
 #include "commands.hpp"
+#include "common/error.hpp"
+#include "laws/disk_plate.hpp"
+#include "laws/disk_sphere.hpp"
+#include "laws/lennard_jones.hpp"
 
 namespace fibrane::app {
-void register_law_command(CLI::App& app) { app.add_subcommand("law", "(not yet available)"); }
+namespace {
+
+struct LawOptions {
+  double m = 6, radius = 1, thickness = 1, distance = 0, cosine = 1, epsilon = 1, sigma = 1;
+  double density_beam = 1, density_shell = 1, strength = 1, sphere_radius = 1;
+};
+
+std::string number(double x) {
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.17g", x);
+  return buffer;
+}
+
+void print_json(const std::string& law, const laws::LawValue& v) {
+  std::cout << "{\"law\": \"" << law << "\", \"value\": " << number(v.value)
+            << ", \"d_distance\": " << number(v.d_d) << ", \"d_cos\": " << number(v.d_c)
+            << ", \"d2_distance\": " << number(v.d_dd) << ", \"d2_cos\": " << number(v.d_cc)
+            << ", \"d2_distance_cos\": " << number(v.d_dc)
+            << ", \"reduced_d_cos\": " << number(v.reduced_c)
+            << ", \"reduced_d2_distance_cos\": " << number(v.reduced_dc) << "}\n";
+}
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InputError(message);
+}
+
+void check_disk(const LawOptions& o, double surface_offset) {
+  require(std::isfinite(o.radius) && o.radius > 0, "--radius must be positive");
+  require(o.cosine >= 0 && o.cosine <= 1, "--cos must lie in [0, 1]");
+  require(std::isfinite(o.distance) && o.distance - surface_offset > o.cosine * o.radius,
+          "--distance must exceed cos * radius" +
+              std::string(surface_offset > 0 ? " + thickness / 2" : "") + " (positive gap)");
+}
+
+// Runs the evaluation, turning a law's domain error into bad input (exit code 2).
+template <class F>
+void run(F evaluate) {
+  try {
+    evaluate();
+  } catch (const std::domain_error& e) {
+    throw InputError(e.what());
+  }
+}
+
+}  // namespace
+
+void register_law_command(CLI::App& app) {
+  auto o = std::make_shared<LawOptions>();
+  auto* law = app.add_subcommand("law", "Evaluate one interaction law; prints JSON");
+  law->require_subcommand(1);
+
+  auto* half = law->add_subcommand("disk-halfspace", "Disk-half-space law, Eq. (55), any m > 3");
+  half->add_option("--m", o->m, "Exponent m > 3")->required();
+  half->add_option("--radius", o->radius, "Disk radius R")->required();
+  half->add_option("--distance", o->distance, "Disk centre to surface distance d")->required();
+  half->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
+  half->callback([o]() {
+    check_disk(*o, 0.0);
+    run([&] { print_json("disk-halfspace", laws::DiskHalfSpace(o->m, o->radius).evaluate(o->distance, o->cosine)); });
+  });
+
+  auto* plate = law->add_subcommand("disk-plate", "Disk-plate law, Eq. (56), any m > 3");
+  plate->add_option("--m", o->m, "Exponent m > 3")->required();
+  plate->add_option("--radius", o->radius, "Disk radius R")->required();
+  plate->add_option("--thickness", o->thickness, "Plate thickness h")->required();
+  plate->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
+  plate->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
+  plate->callback([o]() {
+    require(o->thickness > 0, "--thickness must be positive");
+    check_disk(*o, 0.5 * o->thickness);
+    run([&] {
+      print_json("disk-plate", laws::DiskPlate(o->m, o->radius, o->thickness).evaluate(o->distance, o->cosine));
+    });
+  });
+
+  auto* lj = law->add_subcommand("lj-disk-plate", "Lennard-Jones disk-plate potential per unit length");
+  lj->add_option("--radius", o->radius, "Disk radius R")->required();
+  lj->add_option("--thickness", o->thickness, "Plate thickness h")->required();
+  lj->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
+  lj->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
+  lj->add_option("--epsilon", o->epsilon, "LJ well depth epsilon")->required();
+  lj->add_option("--sigma", o->sigma, "LJ length sigma")->required();
+  lj->add_option("--density-beam", o->density_beam, "Beam particle density (default 1)");
+  lj->add_option("--density-shell", o->density_shell, "Shell particle density (default 1)");
+  lj->add_option("--strength", o->strength, "Interaction-strength factor (default 1)");
+  lj->callback([o]() {
+    const laws::LennardJonesDiskPlate law{o->epsilon, o->sigma, o->radius, o->thickness,
+                                          o->density_beam, o->density_shell, o->strength};
+    law.validate();
+    check_disk(*o, 0.5 * o->thickness);
+    run([&] { print_json("lj-disk-plate", law.evaluate(o->distance, o->cosine)); });
+  });
+
+  auto* sphere = law->add_subcommand("disk-sphere", "Disk-sphere law (App. F, corrected), m = 6");
+  sphere->add_option("--radius", o->radius, "Disk radius R_D")->required();
+  sphere->add_option("--sphere-radius", o->sphere_radius, "Sphere radius R_S")->required();
+  sphere->add_option("--distance", o->distance, "Distance between the centres")->required();
+  sphere->callback([o]() {
+    require(o->radius > 0 && o->sphere_radius > 0, "--radius and --sphere-radius must be positive");
+    require(o->distance > o->radius + o->sphere_radius, "--distance must exceed radius + sphere-radius");
+    run([&] {
+      // Perpendicular orientation only: the angle derivatives are reported as zero.
+      const laws::ScalarJet j = laws::disk_sphere(o->radius, o->sphere_radius, o->distance);
+      laws::LawValue v;
+      v.value = j.value;
+      v.d_d = j.d1;
+      v.d_dd = j.d2;
+      print_json("disk-sphere", v);
+    });
+  });
+}
+
 }  // namespace fibrane::app
