@@ -89,8 +89,8 @@ struct Breakdown {
     bases.resize(s.elements.size() * gu.points.size() * gv.points.size());
     basis_pass();
   }
-  double ju(int e) const { return 0.5 * (s.elements[e].u1 - s.elements[e].u0); }
-  double jv(int e) const { return 0.5 * (s.elements[e].v1 - s.elements[e].v0); }
+  double ju(std::size_t e) const { return 0.5 * (s.elements[e].u1 - s.elements[e].u0); }
+  double jv(std::size_t e) const { return 0.5 * (s.elements[e].v1 - s.elements[e].v0); }
 
   void basis_pass() {
     std::size_t q = 0;
@@ -98,8 +98,7 @@ struct Breakdown {
       const auto& el = s.elements[e];
       for (double pv : gv.points)
         for (double pu : gu.points)
-          bases[q++] = s.surface.basis_in(el.span_u, el.span_v, el.u0 + (pu + 1.0) * ju(static_cast<int>(e)),
-                                          el.v0 + (pv + 1.0) * jv(static_cast<int>(e)));
+          bases[q++] = s.surface.basis_in(el.span_u, el.span_v, el.u0 + (pu + 1.0) * ju(e), el.v0 + (pv + 1.0) * jv(e));
     }
   }
 
@@ -114,7 +113,7 @@ struct Breakdown {
       const int n = 3 * static_cast<int>(cps.size());
       r.setZero(n);
       k.setZero(n, n);
-      const double w = ju(static_cast<int>(e)) * jv(static_cast<int>(e));
+      const double w = ju(e) * jv(e);
       for (double wv : gv.weights)
         for (double wu : gu.weights)
           fibrane::shell::add_shell_point(s.section, bases[q++].R, X, x, wu * wv * w, &energy, &r, &k);
@@ -122,6 +121,7 @@ struct Breakdown {
     return energy;
   }
 };
+
 }  // namespace
 
 int main(int argc, char** argv) {
