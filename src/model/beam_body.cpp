@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/error.hpp"
 #include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
@@ -17,6 +18,16 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
     : name(std::move(n)), curve(std::move(c)), section(s), director(d) {
   const auto& kv = curve.knots();
   const int p = curve.degree();
+  // The bending energy (Eq. 46) needs a C1 axis: at a C0 knot the displacement field may kink at no cost,
+  // a hinge that makes the tangent singular. Arcs above 90 degrees carry such a joint (double knot of
+  // the quadratic arc, which degree elevation keeps at C0).
+  const auto unique = kv.unique_knots();
+  for (std::size_t k = 1; k + 1 < unique.size(); ++k)
+    if (kv.multiplicity(unique[k]) >= p)
+      throw InputError("beam '" + name + "': the axis is only C0 at xi = " + std::to_string(unique[k]) +
+                       " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
+                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: split arcs into pieces of "
+                       "at most 90 degrees or give a NURBS axis without C0 knots");
   for (int span : kv.element_spans()) {
     BeamElement e;
     e.span = span;
