@@ -9,10 +9,10 @@ namespace fibrane::laws {
 // Far from the plate (h small against d - c R) the difference of Eq. (56) cancels. There the law
 // is evaluated instead as the thickness integral of the disk-layer law,
 //   Pi_DPT = (m-1) int_{-h/2}^{h/2} Pi_DHS^{m+1}(d + t) dt       (-d/dz Pi^m_DHS = (m-1) Pi^{m+1}_DHS),
-// with a 10-point Gauss-Legendre rule, which converges geometrically because the nearest
+// with a 5-point Gauss-Legendre rule, which converges geometrically because the nearest
 // singularity (d + t = c R) lies at least kThicknessQuadratureRatio half-thicknesses away.
-inline constexpr double kThicknessQuadratureRatio = 8.0;
-inline constexpr int kThicknessQuadraturePoints = 10;
+inline constexpr double kThicknessQuadratureRatio = 64.0;
+inline constexpr int kThicknessQuadraturePoints = 5;
 
 class DiskPlate {
  public:

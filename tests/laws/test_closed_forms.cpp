@@ -79,7 +79,7 @@ TEST(DiskPlate, ClosedFormsMatchCubatureOnTheGrid) {
 }
 
 TEST(DiskPlate, StableFormAtLargeDistanceAgreesWithBothSidesOfTheSwitch) {
-  // Just beyond the switch the plain difference still holds ~14 digits, so the two forms must
+  // Just beyond the switch the plain difference still holds ~14-15 digits, so the two forms must
   // agree to 1e-12; far away the stable form must still match the reference.
   const double radius = 1.0, h = 0.2, c = 0.6;
   const double d = c * radius + kThicknessQuadratureRatio * 0.5 * h * 1.0001;
@@ -87,7 +87,7 @@ TEST(DiskPlate, StableFormAtLargeDistanceAgreesWithBothSidesOfTheSwitch) {
   const DiskHalfSpace half(12, radius);
   const double plain = half.jet(d - 0.1, c).value - half.jet(d + 0.1, c).value;
   EXPECT_LT(relative_error(plate.jet(d, c).value, plain), 1e-12);
-  const double far = 500.0;
+  const double far = 50.0;
   EXPECT_LT(relative_error(plate.jet(far, c).value, reference::disk_plate(12, radius, h, far, c)), 1e-9);
 }
 
