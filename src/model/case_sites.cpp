@@ -76,7 +76,13 @@ std::vector<Site> beam_sites(const BeamBody& b, const io::YamlNode& at) {
 }  // namespace
 
 std::vector<Site> sites(const Model& m, const BodyRef& b, const io::YamlNode& at) {
-  if (!at.is_map()) at.fail("a map such as {edge: u0}");
+  if (at.is_sequence()) {  // a list of places: their union, in order
+    std::vector<Site> all;
+    for (std::size_t i = 0; i < at.size(); ++i)
+      for (auto& s : sites(m, b, at.at(i))) all.push_back(std::move(s));
+    return all;
+  }
+  if (!at.is_map()) at.fail("a map such as {edge: u0}, or a list of such maps");
   return b.is_beam ? beam_sites(m.beams[b.index], at) : shell_sites(m.shells[b.index], at);
 }
 

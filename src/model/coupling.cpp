@@ -71,14 +71,31 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
   }
-  std::vector<std::pair<int, int>> pairs;
+  // The sparsity pattern holds, for each beam element, the shell elements around the ones its points
+  // project onto (a 3 x 3 block), so that points sliding across a shell element edge (a beam lying on an
+  // element boundary does that at every iteration) do not force a new pattern and a new symbolic
+  // factorisation. The pattern is rebuilt only when a point reaches a shell element outside it.
+  const int n_u = s.surface.knots(0).num_elements(), n_v = s.surface.knots(1).num_elements();
+  bool changed = false;
+  std::vector<std::pair<int, int>> found;
   for (int i = 0; i < n; ++i)
-    if (projection_[i].where == interaction::ShellProximity::Projection::Where::interior)
-      pairs.emplace_back(quad_[i].element, projection_[i].element);
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  const bool changed = pairs != pairs_;
-  pairs_ = std::move(pairs);
+    if (projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
+      const auto key = std::make_pair(quad_[i].element, projection_[i].element);
+      found.push_back(key);
+      if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
+    }
+  if (changed) {
+    pairs_.clear();
+    for (const auto& [eb, es] : found) {
+      const int iu = es % n_u, iv = es / n_u;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du)
+          if (iu + du >= 0 && iu + du < n_u && iv + dv >= 0 && iv + dv < n_v)
+            pairs_.emplace_back(eb, (iv + dv) * n_u + iu + du);
+    }
+    std::sort(pairs_.begin(), pairs_.end());
+    pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
+  }
   pair_points_.assign(pairs_.size(), {});
   for (int i = 0; i < n; ++i) {
     if (projection_[i].where != interaction::ShellProximity::Projection::Where::interior) continue;
@@ -123,6 +140,7 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
     interaction::PairPoint p;
 #pragma omp for schedule(dynamic, 4)
     for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
+      if (pair_points_[k_pair].empty()) continue;  // a neighbour kept in the pattern only
       const auto [eb, es] = pairs_[k_pair];
       const auto& bel = b.elements[eb];
       const auto& sel = s.elements[es];

@@ -45,7 +45,7 @@ class Coupling {
                                    ff_tangent_ == interaction::FfTangent::exact); }
 
   // Step 1 of an evaluation: project every beam quadrature point onto the current shell and collect the
-  // (beam element, shell element) pairs. Returns true if the pair set differs from the previous one.
+  // (beam element, shell element) pairs. Returns true if the sparsity pattern must be rebuilt.
   bool project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs);
   // DOF lists of the current pairs (beam element DOFs followed by shell element DOFs).
   std::vector<std::vector<int>> pair_dofs(const BeamBody& b, const ShellBody& s, const solve::DofMap& dofs) const;
@@ -71,7 +71,7 @@ class Coupling {
   std::vector<QuadPoint> quad_;  // every beam quadrature point, in beam order
   std::vector<interaction::ShellProximity::Projection> projection_;
   std::vector<std::optional<Eigen::Vector2d>> warm_, last_;
-  std::vector<std::pair<int, int>> pairs_;          // (beam element, shell element), sorted
+  std::vector<std::pair<int, int>> pairs_;          // (beam element, shell element) in the pattern, sorted
   std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
   std::vector<CouplingPoint> points_;
   double energy_ = 0;

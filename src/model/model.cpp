@@ -50,6 +50,7 @@ void Model::finalize() {
     for (int e : em.elements) element_dofs_.push_back(all[e]);
   }
   base_elements_ = static_cast<int>(element_dofs_.size());
+  constrained_dofs_ = constraints.constrained_dofs();
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
   for (auto& c : couplings) c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
   rebuild_pattern();
@@ -136,8 +137,12 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
     assembler_.add_vector(l.dofs, -f * l.values);
     load_sq += f * f * l.values.squaredNorm();
   }
-  load_scale_ = std::sqrt(load_sq);
   assembler_.end();
+  // The reference force level for Newton's relative tolerance: external loads, or, for problems driven by
+  // prescribed displacements, the reactions they cause.
+  double reaction_sq = 0.0;
+  for (int d : constrained_dofs_) reaction_sq += full_residual()[d] * full_residual()[d];
+  load_scale_ = std::sqrt(std::max(load_sq, reaction_sq));
   lap(times_.other);
 }
 

@@ -107,6 +107,7 @@ class Model : public solve::NonlinearSystem {
   std::vector<int> shell_first_element_, beam_first_element_;
   int moment_first_element_ = 0;
   std::vector<int> edge_moment_first_element_;
+  std::vector<int> constrained_dofs_;
   int base_elements_ = 0;  // elements that never change; coupling pairs follow
   std::vector<int> coupling_first_element_;
   void rebuild_pattern();
