@@ -169,6 +169,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   run.newton.max_iterations = node->get("max_iterations", run.newton.max_iterations);
   run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);
   run.newton.tol_absolute = node->get("tolerance_absolute", run.newton.tol_absolute);
+  run.newton.tol_increment = node->get("tolerance_increment", run.newton.tol_increment);
   run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();

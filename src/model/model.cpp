@@ -68,6 +68,9 @@ void Model::rebuild_pattern() {
 }
 
 bool Model::symmetric() const {
+  // The load stiffness of a point moment (Eq. 54, B8-B9) is not symmetric: M . delta omega is not the
+  // variation of a potential for a fixed spatial M.
+  if (!moments.empty()) return false;
   for (const auto& c : couplings)
     if (!c.symmetric()) return false;
   return true;

@@ -11,7 +11,8 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
                           LinearSolver& solver) {
   if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
   NewtonReport rep;
-  double scale = 0.0;
+  double scale = 0.0, previous_norm = 0.0;
+  bool small_update = false;
   for (int it = 0;; ++it) {
     sys.evaluate(q, t, true);
     const Eigen::VectorXd& r = sys.residual();
@@ -24,10 +25,11 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       return rep;
     }
     if (it == 0) scale = std::max(norm, sys.residual_scale());
-    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute)) {
+    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute) || (small_update && norm <= previous_norm)) {
       rep.converged = true;
       return rep;
     }
+    previous_norm = norm;
     if (norm > opt.divergence_factor * scale) {
       rep.failure = "diverged at iteration " + std::to_string(it) + " (|r| = " + std::to_string(norm) + ")";
       return rep;
@@ -49,6 +51,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       return rep;
     }
     q += dq;
+    small_update = opt.tol_increment > 0 && dq.norm() <= opt.tol_increment * q.norm();
     rep.iterations = it + 1;
   }
 }

@@ -29,6 +29,10 @@ struct NewtonOptions {
   int max_iterations = 20;
   double tol_relative = 1e-9;
   double tol_absolute = 1e-12;
+  // Also converged when an update is this small relative to |q| and the residual it leads to did not grow:
+  // the residual has then reached its round-off floor (fine meshes, stiff parts next to weak interaction
+  // forces), where a purely relative residual test can never be met. 0 disables it.
+  double tol_increment = 1e-10;
   bool verbose = false;               // one line per iteration on stderr
   double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
 };

@@ -154,11 +154,10 @@ TEST(BeamBenchmarks, RigidRotationOfReferenceRotatesTheDeformation) {
   }
 }
 
-// The default solver choice ('auto') follows Model::symmetric(), which is true even when the model has
-// point moments; a symmetric factorisation then drops the unsymmetric part of their load stiffness and
-// Newton stalls (residual oscillating around 1e-1 at every load step, endless cut-backs). Disabled
-// until the model layer reports non-symmetric tangents; the objectivity test uses umfpack meanwhile.
-TEST(BeamBenchmarks, DISABLED_SpatialPointMomentConvergesWithDefaultSolver) {
+// The default solver choice ('auto') follows Model::symmetric(), which must be false when the model has
+// point moments: a symmetric factorisation drops the unsymmetric part of their load stiffness and Newton
+// stalls (residual oscillating around 1e-1 at every load step, endless cut-backs).
+TEST(BeamBenchmarks, SpatialPointMomentConvergesWithDefaultSolver) {
   const auto r = run_yaml("beam-moment-auto", curved_case(Eigen::Matrix3d::Identity(), "auto"));
   EXPECT_TRUE(r.summary.result.completed) << r.summary.result.message;
 }
