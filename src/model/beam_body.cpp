@@ -154,7 +154,7 @@ double BeamBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, s
       for (std::size_t i = 0; i < g.points.size(); ++i) {
         const double xi = el.xi0 + (g.points[i] + 1.0) * j;
         const auto b = curve.basis(xi, 2);
-        beam::add_beam_point(section, basis_matrix(b), q, states[e][i], g.weights[i] * j, &energy, &r,
+        beam::add_beam_point(section, basis_matrix(b), q, states[e][i], share * g.weights[i] * j, &energy, &r,
                              with_tangent ? &k : nullptr);
       }
       a.add(first_element + e, r, with_tangent ? &k : nullptr);

@@ -27,6 +27,10 @@ struct BeamBody {
   spline::NurbsCurve curve;  // reference axis after refinement
   beam::BeamSection section;
   Eigen::Vector3d director = Eigen::Vector3d::Zero();  // a2 hint; zero: rotation-minimising frame
+  // The part of the physical beam this model represents: 0.5 for a beam lying in a mirror-symmetry plane
+  // of a model that keeps only one side of the plane (its stiffness, its loads and its interactions then
+  // count half, exactly as the full problem's energy halves). 1 otherwise.
+  double share = 1.0;
   double section_radius = 0.0;  // radius of a circular section (interactions need it); 0: other section
   int block = -1;
   int gauss_points = 0;  // 0 means degree + 1

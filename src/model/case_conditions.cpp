@@ -328,13 +328,14 @@ void read_load(Model& m, const io::YamlNode& entry) {
     PointMoment pm;
     pm.beam = b.index;
     pm.xi = beam_parameter(beam, entry["at"]);
-    pm.moment = entry["moment"].as_vector3();
+    pm.moment = beam.share * entry["moment"].as_vector3();
     pm.function = function;
     pm.element = beam.element_of(pm.xi);
     pm.state = beam.state_at(pm.xi);
     m.moments.push_back(pm);
   }
   load.function = function;
+  if (b.is_beam) load.values *= m.beams[b.index].share;  // loads on a beam count with its share
   entry.reject_unknown_keys();
   add_load(m, std::move(load));
 }

@@ -85,6 +85,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
   }
   BeamBody body(name, std::move(curve), section, director);
   body.section_radius = radius;
+  if (auto share = node.optional("symmetry_share")) body.share = share->in_range(0.0, 1.0, true, false);
   if (auto g = node.optional("gauss_points")) body.gauss_points = g->positive_int();
   node.reject_unknown_keys();
   m.add_beam(std::move(body));

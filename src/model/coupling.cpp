@@ -45,8 +45,9 @@ Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDisk
     const double j = 0.5 * (el.xi1 - el.xi0);
     for (std::size_t q = 0; q < g.points.size(); ++q) {
       const double xi = el.xi0 + (g.points[q] + 1.0) * j;
-      // Eq. (5) integrates over the reference arc length: weight = Gauss weight x dxi/dxi_parent x J_B.
-      const double weight = g.weights[q] * j * b.curve.derivative(xi, 1).norm();
+      // Eq. (5) integrates over the reference arc length: weight = Gauss weight x dxi/dxi_parent x J_B
+      // (times the beam's share of a symmetric model).
+      const double weight = b.share * g.weights[q] * j * b.curve.derivative(xi, 1).norm();
       quad_.push_back({static_cast<int>(e), xi, weight, s_start + arc_length(b.curve, el.xi0, xi)});
     }
     s_start += arc_length(b.curve, el.xi0, el.xi1);
