@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Mesh-convergence tables and Newton histories for the beam benchmarks (docs/verification-beam.md).
+"""Mesh-convergence tables and Newton histories for the beam benchmarks (docs/verification.md).
 
 Runs the fibrane CLI on edited copies of examples/beam-rollup.yaml and examples/bathe-bolourchi.yaml
 (degree 2..4, 4..64 elements, maximal continuity) and prints Markdown tables of the tip errors and

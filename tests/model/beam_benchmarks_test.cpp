@@ -31,7 +31,7 @@ std::size_t index_of_time(const History& h, double t) {
 // A cantilever of length L = 10 under the end moment 2 pi E I / L closes into a circle: the tip returns
 // to the root within 0.5% of L; at M/2 it is a half circle with the tip at height 2L/pi on the root's
 // vertical. The example (16 cubic elements) is about 100 times more accurate than that (see
-// docs/verification-beam.md), so the test keeps the issue's tolerance and has ample margin.
+// docs/verification.md), so the test keeps the issue's tolerance and has ample margin.
 TEST(BeamBenchmarks, RollUpClosesIntoCircle) {
   const auto r = run_yaml("beam-rollup", example_text("beam-rollup.yaml"));
   ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
@@ -53,7 +53,7 @@ TEST(BeamBenchmarks, RollUpClosesIntoCircle) {
 
 // Tip of the 45-degree bend under the dead force 600 normal to its plane: within 0.1 (absolute) of the
 // inextensible Kirchhoff-rod solution of the issue. With 8 cubic elements the converged discretisation
-// error is below 0.05 per component (mesh table in docs/verification-beam.md).
+// error is below 0.05 per component (mesh table in docs/verification.md).
 TEST(BeamBenchmarks, BatheBolourchiBendTip) {
   const auto r = run_yaml("bathe-bolourchi", example_text("bathe-bolourchi.yaml"));
   ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
@@ -183,7 +183,7 @@ Marched march(const std::string& example, double t_stop, double t_next, int iter
     solver->analyze(m.tangent());
     if (!solver->factorize(m.tangent())) break;
     const Eigen::VectorXd dq = solver->solve(m.residual());
-    // The lines scripts/beam_convergence.py collects for docs/verification-beam.md.
+    // The lines scripts/beam_convergence.py collects for docs/verification.md.
     if (print)
       std::cout << "newton " << example << " t=" << t_next << " it=" << k << " |r|=" << m.residual().norm()
                 << " |dq|=" << dq.norm() << "\n";
