@@ -21,9 +21,10 @@ inline std::string fibrane_binary() {
   return bin ? bin : "";
 }
 
-inline CliResult run_cli(const std::string& arguments) {
+// Runs any shell command, capturing stdout and stderr together.
+inline CliResult run_cli_command(const std::string& shell_command) {
   CliResult r;
-  const std::string command = "'" + fibrane_binary() + "' " + arguments + " 2>&1";
+  const std::string command = shell_command + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buffer{};
@@ -31,6 +32,10 @@ inline CliResult run_cli(const std::string& arguments) {
   const int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+inline CliResult run_cli(const std::string& arguments) {
+  return run_cli_command("'" + fibrane_binary() + "' " + arguments);
 }
 
 }  // namespace fibrane::testing

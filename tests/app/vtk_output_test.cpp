@@ -1,0 +1,45 @@
+// A real VTK reader (python3-vtk9) opens every file of a run's time series, and history.csv and
+// summary.json are written: the roll-up strip example, run through the command line.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "cli_util.hpp"
+
+namespace fibrane::testing {
+namespace {
+
+std::string slurp(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3-vtk9 missing";
+  const auto out = std::filesystem::temp_directory_path() / "fibrane-vtk-rollup";
+  std::filesystem::remove_all(out);
+  const std::string example = std::string(FIBRANE_SOURCE_DIR) + "/examples/rollup-strip.yaml";
+  const auto run = run_cli("run '" + example + "' -q -o '" + out.string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::string history = slurp(out / "history.csv");
+  EXPECT_EQ(history.rfind("step,t,load_factor,iterations,residual,strain_energy,tip_x,tip_z", 0), 0u) << history;
+  EXPECT_NE(slurp(out / "summary.json").find("\"completed\": true"), std::string::npos);
+  const std::string script = std::string(FIBRANE_SOURCE_DIR) + "/tests/app/read_vtk.py";
+  const auto read = run_cli_command("/usr/bin/python3 '" + script + "' '" + out.string() + "'");
+  ASSERT_EQ(read.exit_code, 0) << read.output;
+  // One dataset per written step (21: the initial state and 20 steps), each with the shell fields.
+  std::istringstream lines(read.output);
+  int datasets = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++datasets;
+    EXPECT_NE(line.find("displacement N_local M_local"), std::string::npos) << line;
+  }
+  EXPECT_EQ(datasets, 21) << read.output;
+}
+
+}  // namespace
+}  // namespace fibrane::testing
