@@ -123,18 +123,20 @@ void ConstraintSet::finalize(int n_dofs) {
   finalized_ = true;
 }
 
+void ConstraintSet::substitute(int master, double coef, Resolved& out) const {
+  if (slave_of_[static_cast<size_t>(master)] < 0) {
+    out.masters.emplace_back(master, coef);
+    return;
+  }
+  const Resolved& sub = resolved_[static_cast<size_t>(master)];
+  for (const auto& [mm, cc] : sub.masters) out.masters.emplace_back(mm, coef * cc);
+  for (const auto& [curve, amp] : sub.terms) out.terms.emplace_back(curve, coef * amp);
+}
+
 void ConstraintSet::check_agrees(const LinearConstraint& c) const {
   Resolved r;
   r.terms = prescribed_of(c);
-  for (const auto& [m, coef] : c.masters) {
-    if (slave_of_[static_cast<size_t>(m)] < 0) {
-      r.masters.emplace_back(m, coef);
-      continue;
-    }
-    const Resolved& sub = resolved_[static_cast<size_t>(m)];
-    for (const auto& [mm, cc] : sub.masters) r.masters.emplace_back(mm, coef * cc);
-    for (const auto& [curve, amp] : sub.terms) r.terms.emplace_back(curve, coef * amp);
-  }
+  for (const auto& [m, coef] : c.masters) substitute(m, coef, r);
   normalize(r.masters);
   normalize(r.terms);
   const Resolved& kept = resolved_[static_cast<size_t>(c.slave)];
@@ -150,20 +152,14 @@ void ConstraintSet::resolve(int dof, std::vector<int>& state, std::vector<int>& 
   Resolved out;
   out.terms = prescribed_of(c);
   for (const auto& [m, coef] : c.masters) {
-    if (slave_of_[static_cast<size_t>(m)] < 0) {
-      out.masters.emplace_back(m, coef);
-      continue;
-    }
-    if (state[static_cast<size_t>(m)] == 1) {
+    if (slave_of_[static_cast<size_t>(m)] >= 0 && state[static_cast<size_t>(m)] == 1) {
       std::string cycle;
       auto start = std::find(path.begin(), path.end(), m);
       for (auto it = start; it != path.end(); ++it) cycle += std::to_string(*it) + " -> ";
       throw InputError("cyclic constraints: DOF " + cycle + std::to_string(m));
     }
-    if (state[static_cast<size_t>(m)] == 0) resolve(m, state, path);
-    const Resolved& sub = resolved_[static_cast<size_t>(m)];
-    for (const auto& [mm, cc] : sub.masters) out.masters.emplace_back(mm, coef * cc);
-    for (const auto& [curve, amp] : sub.terms) out.terms.emplace_back(curve, coef * amp);
+    if (slave_of_[static_cast<size_t>(m)] >= 0 && state[static_cast<size_t>(m)] == 0) resolve(m, state, path);
+    substitute(m, coef, out);
   }
   normalize(out.masters);
   normalize(out.terms);

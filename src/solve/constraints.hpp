@@ -59,6 +59,8 @@ class ConstraintSet {
     std::vector<std::pair<int, double>> terms;    // (curve, amplitude)
   };
   void check_ready(int dof) const;
+  // Appends coef * (master, or master's resolved expansion if it is a slave already resolved) to out.
+  void substitute(int master, double coef, Resolved& out) const;
   void check_agrees(const LinearConstraint& c) const;
   void resolve(int dof, std::vector<int>& state, std::vector<int>& path);
 

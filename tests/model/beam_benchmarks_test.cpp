@@ -203,17 +203,7 @@ void expect_tangent_consistent(const std::string& example, double t_stop, double
   auto& m = *r.c.model;
   m.evaluate(r.q, t_next, true);
   const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
-  const double h = 1e-6;
-  Eigen::MatrixXd Kfd(K.rows(), K.cols());
-  for (int j = 0; j < r.q.size(); ++j) {
-    Eigen::VectorXd qp = r.q, qm = r.q;
-    qp[j] += h;
-    qm[j] -= h;
-    m.evaluate(qp, t_next, false);
-    const Eigen::VectorXd rp = m.residual();
-    m.evaluate(qm, t_next, false);
-    Kfd.col(j) = (rp - m.residual()) / (2.0 * h);
-  }
+  const Eigen::MatrixXd Kfd = finite_difference_tangent(m, r.q, t_next, 1e-6);
   EXPECT_LT((K - Kfd).norm(), 1e-6 * K.norm()) << example << " after " << iterations << " iterations";
 }
 

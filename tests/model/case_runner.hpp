@@ -80,4 +80,19 @@ inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int th
   return r;
 }
 
+// Central differences of the model's reduced residual: column j is (r(q + h e_j) - r(q - h e_j)) / 2h.
+inline Eigen::MatrixXd finite_difference_tangent(model::Model& m, const Eigen::VectorXd& q, double t, double h) {
+  Eigen::MatrixXd k(m.size(), m.size());
+  for (int j = 0; j < q.size(); ++j) {
+    Eigen::VectorXd qp = q, qm = q;
+    qp[j] += h;
+    qm[j] -= h;
+    m.evaluate(qp, t, false);
+    const Eigen::VectorXd rp = m.residual();
+    m.evaluate(qm, t, false);
+    k.col(j) = (rp - m.residual()) / (2.0 * h);
+  }
+  return k;
+}
+
 }  // namespace fibrane::testing

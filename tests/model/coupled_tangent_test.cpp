@@ -50,17 +50,7 @@ TEST(CoupledModel, TangentMatchesFiniteDifferencesForEveryFormulation) {
     const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
     // h = 1e-7 on O(1e-2) perturbations of O(1) geometry: truncation ~ h^2 |r'''| ~ 1e-12 relative,
     // round-off ~ 1e-16 |r| / h ~ 1e-9 relative; 1e-6 has margin and still catches a missing term.
-    const double h = 1e-7;
-    Eigen::MatrixXd Kfd(m.size(), m.size());
-    for (int j = 0; j < q.size(); ++j) {
-      Eigen::VectorXd qp = q, qm = q;
-      qp[j] += h;
-      qm[j] -= h;
-      m.evaluate(qp, 1.0, false);
-      const Eigen::VectorXd rp = m.residual();
-      m.evaluate(qm, 1.0, false);
-      Kfd.col(j) = (rp - m.residual()) / (2 * h);
-    }
+    const Eigen::MatrixXd Kfd = finite_difference_tangent(m, q, 1.0, 1e-7);
     Eigen::Index bi, bj;
     const double worst = (K - Kfd).cwiseAbs().maxCoeff(&bi, &bj);
     EXPECT_LT(worst / K.cwiseAbs().maxCoeff(), 1e-6) << f << ": entry (" << bi << ", " << bj << ")";
