@@ -54,25 +54,27 @@ double kronrod_segment(F& f, double a, double b, double& error, double* abs_inte
 // absolute tolerance. A purely absolute, halving tolerance would recurse without end on integrands
 // that carry the noise of an inner adaptive integral.
 template <class F>
-double adaptive_segment(F& f, double a, double b, double rel_tol, double tol, int depth, double& err) {
+double adaptive_segment(F& f, double a, double b, double rel_tol, double tol, int depth, double& err,
+                        long& panels_left) {
   double e = 0, magnitude = 0;
   const double value = kronrod_segment(f, a, b, e, &magnitude);
-  if (e <= tol || e <= std::max(rel_tol, 1e-14) * magnitude || depth <= 0 || std::abs(b - a) < 1e-15 * (std::abs(a) + std::abs(b))) {
+  if (e <= tol || e <= std::max(rel_tol, 1e-14) * magnitude || depth <= 0 || --panels_left <= 0 || std::abs(b - a) < 1e-15 * (std::abs(a) + std::abs(b))) {
     err += e;
     return value;
   }
   const double mid = 0.5 * (a + b);
-  return adaptive_segment(f, a, mid, rel_tol, 0.5 * tol, depth - 1, err) +
-         adaptive_segment(f, mid, b, rel_tol, 0.5 * tol, depth - 1, err);
+  return adaptive_segment(f, a, mid, rel_tol, 0.5 * tol, depth - 1, err, panels_left) +
+         adaptive_segment(f, mid, b, rel_tol, 0.5 * tol, depth - 1, err, panels_left);
 }
 }  // namespace detail
 
 // Adaptive Gauss-Kronrod (7/15) integral of f over [a, b] to about rel_tol relative accuracy
-// (absolute floor abs_tol). Bisection depth is limited to 30 levels.
+// (absolute floor abs_tol). Bisection depth is limited to 30 levels and 4000 panels.
 template <class F>
 double integrate(F f, double a, double b, double rel_tol = 1e-12, double abs_tol = 0.0) {
   double err = 0;
-  return detail::adaptive_segment(f, a, b, rel_tol, abs_tol, 30, err);
+  long panels_left = 4000;  // budget: integrands noisier than rel_tol must not recurse forever
+  return detail::adaptive_segment(f, a, b, rel_tol, abs_tol, 30, err, panels_left);
 }
 
 // Integral over [a, infinity) by the map x = a + L t / (1 - t), t in [0, 1).

@@ -1,5 +1,6 @@
 #include "laws/reference.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -73,13 +74,44 @@ double disk_sphere(double disk_radius, double sphere_radius, double d, double to
       [&](double t) { return laws::point_sphere(sphere_radius, t).value; }, disk_radius, d, tol);
 }
 
+// Complete elliptic integrals K and E from the complementary modulus k' by the arithmetic-
+// geometric mean; passing k' (not k) keeps full accuracy as k -> 1, where 1 - k^2 would cancel.
+static void elliptic_from_complement(double k_complement, double& big_k, double& big_e) {
+  double a = 1.0, b = k_complement, c2 = 1.0 - k_complement * k_complement;
+  double sum = 0.5 * c2, power = 0.5;
+  for (int i = 0; i < 40 && c2 > 1e-34; ++i) {
+    const double c = 0.5 * (a - b);
+    const double next_b = std::sqrt(a * b);
+    a = 0.5 * (a + b);
+    b = next_b;
+    c2 = c * c;
+    power *= 2.0;
+    sum += power * c2;
+  }
+  big_k = kPi / (2.0 * a);
+  big_e = big_k * (1.0 - sum);
+}
+
 double angular_integral_five_halves(double a, double b) {
   if (b == 0.0) return kPi * std::pow(a, -2.5);
   // I_{3/2} = 2 E(k) / ((A-B) sqrt(A+B)), k^2 = 2B/(A+B), and I_{5/2} = -(2/3) dI_{3/2}/dA with
-  // dE/dA = (K - E) / (2 (A+B)).
-  const double sum = a + b, difference = a - b, k = std::sqrt(2 * b / sum);
-  const double big_k = std::comp_ellint_1(k), big_e = std::comp_ellint_2(k);
+  // dE/dA = (K - E) / (2 (A+B)); k'^2 = (A-B)/(A+B).
+  const double sum = a + b, difference = a - b;
+  double big_k, big_e;
+  elliptic_from_complement(std::sqrt(difference / sum), big_k, big_e);
   const double root = std::sqrt(sum);
+  const double derivative =
+      2 * ((big_k - big_e) / (2 * sum) / (difference * root) -
+           big_e * (1 / (difference * difference * root) + 0.5 / (difference * sum * root)));
+  return -2.0 / 3.0 * derivative;
+}
+
+// I_{5/2}(rho^2 + r^2, 2 rho r) with A - B = (rho - r)^2 formed exactly.
+static double angular_integral_five_halves_split(double rho, double r) {
+  const double sum = (rho + r) * (rho + r), difference = (rho - r) * (rho - r);
+  double big_k, big_e;
+  elliptic_from_complement(std::abs(rho - r) / (rho + r), big_k, big_e);
+  const double root = rho + r;
   const double derivative =
       2 * ((big_k - big_e) / (2 * sum) / (difference * root) -
            big_e * (1 / (difference * difference * root) + 0.5 / (difference * sum * root)));
@@ -89,15 +121,25 @@ double angular_integral_five_halves(double a, double b) {
 double point_cylindrical_shell(double shell_radius, double thickness, double rho, double tol) {
   const double inner = shell_radius - 0.5 * thickness, outer = shell_radius + 0.5 * thickness;
   return 3 * kPi / 8 * 2 *
-         integrate([&](double r) { return r * angular_integral_five_halves(rho * rho + r * r, 2 * rho * r); },
+         integrate([&](double r) { return r * angular_integral_five_halves_split(rho, r); },
                    inner, outer, tol);
 }
 
 double disk_cylindrical_shell_parallel(double disk_radius, double shell_radius, double thickness,
                                        double d, double tol) {
-  return disk_cubature_around_point(
-      [&](double rho) { return point_cylindrical_shell(shell_radius, thickness, rho, tol * 0.1); },
-      disk_radius, d, tol);
+  // The point law depends only on the in-plane distance rho from the axis point, so the disk
+  // integral collapses to int P(rho) 2 rho acos((rho^2 + d^2 - R^2) / (2 rho d)) drho; the map
+  // rho = d - R cos(psi) removes the square-root behaviour of the arc length at both ends.
+  return integrate(
+      [&](double psi) {
+        const double rho = d - disk_radius * std::cos(psi);
+        // Half-angle of the arc of radius rho inside the disk: 1 - cos(phi) = R^2 sin^2(psi) / (2 rho d),
+        // written through asin so that nothing cancels near the ends.
+        const double phi = 2 * std::asin(std::min(1.0, disk_radius * std::sin(psi) / (2 * std::sqrt(rho * d))));
+        return 2 * rho * phi * disk_radius * std::sin(psi) *
+               point_cylindrical_shell(shell_radius, thickness, rho, tol * 0.1);
+      },
+      0.0, kPi, tol);
 }
 
 double disk_cylindrical_shell_perpendicular(double disk_radius, double shell_radius,

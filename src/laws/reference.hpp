@@ -19,7 +19,7 @@ double disk_sphere(double disk_radius, double sphere_radius, double d, double to
 double angular_integral_five_halves(double a, double b);
 // Point at distance rho from the axis of an infinite cylindrical shell (mid-surface radius R,
 // thickness h): r^-6 integrated along the axis (3 pi / 8 rho^-5), then over the annulus.
-double point_cylindrical_shell(double shell_radius, double thickness, double rho, double tol = 1e-13);
+double point_cylindrical_shell(double shell_radius, double thickness, double rho, double tol = 1e-11);
 // Disk vs infinite cylindrical shell, disk centre at distance d from the axis (Fig. 5b).
 // Parallel: disk plane perpendicular to the axis; perpendicular: disk plane contains the axis.
 double disk_cylindrical_shell_parallel(double disk_radius, double shell_radius, double thickness,
