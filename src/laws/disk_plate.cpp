@@ -3,13 +3,14 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "common/gauss_legendre.hpp"
 
 namespace fibrane::laws {
 namespace {
 
 // Nodes and weights of the thickness rule, built once.
-const GaussRule& thickness_rule() {
-  static const GaussRule rule = gauss_legendre(kThicknessQuadraturePoints);
+const QuadratureRule& thickness_rule() {
+  static const QuadratureRule rule = gauss_legendre(kThicknessQuadraturePoints);
   return rule;
 }
 
@@ -33,8 +34,8 @@ DistanceSquaredCosJet DiskPlate::jet(double d, double c) const {
     return out;
   }
   DistanceSquaredCosJet out;
-  for (std::size_t i = 0; i < rule_.nodes.size(); ++i)
-    out += layer_.jet(d + half * rule_.nodes[i], c).scaled(rule_.weights[i] * half);
+  for (std::size_t i = 0; i < rule_.points.size(); ++i)
+    out += layer_.jet(d + half * rule_.points[i], c).scaled(rule_.weights[i] * half);
   return out.scaled(exponent() - 1.0);
 }
 
@@ -46,10 +47,10 @@ DistanceSquaredCosJet disk_plate_integer_jet(int m, double radius, double thickn
     out += disk_halfspace_integer_jet(m, radius, d + half, c).scaled(-1.0);
     return out;
   }
-  const GaussRule& rule = thickness_rule();
+  const QuadratureRule& rule = thickness_rule();
   DistanceSquaredCosJet out;
-  for (std::size_t i = 0; i < rule.nodes.size(); ++i)
-    out += disk_halfspace_integer_jet(m + 1, radius, d + half * rule.nodes[i], c)
+  for (std::size_t i = 0; i < rule.points.size(); ++i)
+    out += disk_halfspace_integer_jet(m + 1, radius, d + half * rule.points[i], c)
                .scaled(rule.weights[i] * half);
   return out.scaled(m - 1.0);
 }

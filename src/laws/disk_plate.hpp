@@ -28,7 +28,7 @@ class DiskPlate {
  private:
   DiskHalfSpace half_space_, layer_;  // exponents m and m + 1
   double thickness_;
-  GaussRule rule_;
+  QuadratureRule rule_;
 };
 
 // Fast closed form for integer m in [6, 32], used by the Lennard-Jones law.

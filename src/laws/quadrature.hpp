@@ -1,18 +1,14 @@
 #pragma once
-// Quadrature used by the laws (Gauss-Legendre over the plate thickness) and by the reference
+// Quadrature used by the reference
 // integrators (adaptive Gauss-Kronrod). Header templates so that the integrands inline.
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
+#include "common/gauss_legendre.hpp"
+
 namespace fibrane::laws {
 
-struct GaussRule {
-  std::vector<double> nodes, weights;  // on [-1, 1]
-};
-
-// n-point Gauss-Legendre rule (Newton iteration on P_n), exact for polynomials of degree 2n-1.
-GaussRule gauss_legendre(int n);
 
 namespace detail {
 // Gauss-Kronrod 7/15 abscissae and weights on [-1, 1] (standard tabulated values).

@@ -1,16 +1,10 @@
 #pragma once
-// Gauss-Legendre quadrature on the reference interval [-1, 1].
-#include <vector>
+// The spline layer's quadrature is the project's Gauss-Legendre rule (src/common/gauss_legendre.hpp).
+#include "common/gauss_legendre.hpp"
 
 namespace fibrane::spline {
 
-struct QuadratureRule {
-  std::vector<double> points, weights;  // points increasing, on [-1, 1]; weights sum to 2
-};
-
-// n-point rule, exact for polynomials of degree 2n - 1. Any n >= 1 (throws std::invalid_argument
-// otherwise). Nodes are the roots of P_n found by Newton's method from Chebyshev-like initial guesses,
-// weights w_i = 2 / ((1 - x_i^2) P_n'(x_i)^2), both to machine precision.
-QuadratureRule gauss_legendre(int n);
+using ::fibrane::gauss_legendre;
+using ::fibrane::QuadratureRule;
 
 }  // namespace fibrane::spline

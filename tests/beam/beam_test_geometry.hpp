@@ -1,4 +1,5 @@
 #pragma once
+#include "common/gauss_legendre.hpp"
 // Test-only geometry for the beam kernels: B-spline basis with derivatives on an open knot vector
 // (Cox-de Boor recursion), Gauss-Legendre rules and random curved/deformed beam states. Independent
 // of src/spline on purpose, so the kernel tests do not depend on a module written in parallel.
@@ -48,26 +49,14 @@ inline BasisDerivs bezier_basis(int degree, double xi) {
   return bspline_basis(open_knots(degree, 1), degree, xi, nullptr);
 }
 
-// Gauss-Legendre points and weights on [0, 1] (Newton iteration on P_n).
+// Gauss-Legendre points and weights on [0, 1] (the project's rule mapped from [-1, 1]).
 inline void gauss_legendre(int n, std::vector<double>& points, std::vector<double>& weights) {
-  points.assign(n, 0.0);
-  weights.assign(n, 0.0);
+  const auto rule = ::fibrane::gauss_legendre(n);
+  points.resize(n);
+  weights.resize(n);
   for (int i = 0; i < n; ++i) {
-    double x = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 0.0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1.0, p1 = x;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (x * p1 - p0) / (x * x - 1.0);
-      const double dx = p1 / dp;
-      x -= dx;
-      if (std::abs(dx) < 1e-15) break;
-    }
-    points[i] = 0.5 * (1.0 - x);
-    weights[i] = 1.0 / ((1.0 - x * x) * dp * dp);  // 2/((1-x^2)P'^2) times the 1/2 of [0, 1]
+    points[i] = 0.5 * (rule.points[i] + 1.0);
+    weights[i] = 0.5 * rule.weights[i];
   }
 }
 

@@ -1,4 +1,4 @@
-#include "spline/quadrature.hpp"
+#include "common/gauss_legendre.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -7,7 +7,7 @@
 #include <string>
 #include <utility>
 
-namespace fibrane::spline {
+namespace fibrane {
 namespace {
 
 // P_n(x) and P_n'(x) by the three-term recurrence (k+1) P_{k+1} = (2k+1) x P_k - k P_{k-1}.
@@ -57,4 +57,4 @@ QuadratureRule gauss_legendre(int n) {
   return rule;
 }
 
-}  // namespace fibrane::spline
+}  // namespace fibrane
