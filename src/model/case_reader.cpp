@@ -162,8 +162,11 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   s.max_steps = node->get("max_steps", s.max_steps);
   run.linear = node->get("linear", run.linear);
   if (auto stop = node->optional("stop")) {
-    run.stop_column = (*stop)["column"].as_string();
-    run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
+    if (stop->has("column") || stop->has("below_fraction_of_peak")) {
+      run.stop_column = (*stop)["column"].as_string();
+      run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
+    }
+    run.stop_at_limit_point = stop->get("at_limit_point", false);
     stop->reject_unknown_keys();
   }
   s.extrapolate = node->get("extrapolate", s.extrapolate);

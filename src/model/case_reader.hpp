@@ -27,6 +27,10 @@ struct RunSettings {
   // interaction energy at pull-off). Empty: run to t_end.
   std::string stop_column;
   double stop_fraction = 0.0;
+  // A displacement-controlled path that ends at a limit point (pull-off) cannot be continued by Newton:
+  // with this set, a run whose step fails below dt_min after at least one converged step ends as
+  // completed, "at a limit point", instead of as a failure.
+  bool stop_at_limit_point = false;
 };
 
 struct Case {

@@ -65,6 +65,12 @@ RunSummary run_case(Case& c, const RunOptions& options) {
         if (stop) stopped_by_condition = true;
         return !stop;
       });
+  if (!summary.result.completed && summary.result.step_too_small && c.run.stop_at_limit_point &&
+      summary.result.steps > 0) {
+    summary.result.completed = true;
+    summary.result.message = "ended at a limit point after t = " + std::to_string(summary.result.t_reached) +
+                             " (no equilibrium could be continued: for displacement-driven adhesion, pull-off)";
+  }
   if (stopped_by_condition) {
     summary.result.completed = true;
     summary.result.message = "stopped: " + c.run.stop_column + " fell below " + std::to_string(c.run.stop_fraction) +

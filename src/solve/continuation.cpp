@@ -48,6 +48,7 @@ ContinuationResult run_continuation(NonlinearSystem& sys, Eigen::VectorXd& q, co
       ++cutbacks;
       dt_try *= sc.cutback;
       if (dt_try < sc.dt_min) {
+        res.step_too_small = true;
         res.message = "step from t = " + std::to_string(t) + " failed with dt below dt_min = " +
                       std::to_string(sc.dt_min) + ": " + newton.failure;
         return res;

@@ -33,6 +33,7 @@ struct ContinuationResult {
   int steps;
   int total_iterations;  // including failed attempts
   std::string message;
+  bool step_too_small = false;  // ended because a step failed even below dt_min (e.g. at a limit point)
 };
 
 // Marches t from t_start to t_end. After each converged step: sys.accept(q, t), then on_step(report, q);
