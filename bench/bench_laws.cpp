@@ -20,7 +20,8 @@ void lj_evaluate(benchmark::State& state, double gap_over_sigma) {
 }
 BENCHMARK_CAPTURE(lj_evaluate, near_equilibrium, 1.0);
 BENCHMARK_CAPTURE(lj_evaluate, moderate_gap, 10.0);
-BENCHMARK_CAPTURE(lj_evaluate, far_stable_form, 1000.0);  // (d - cR) / (h/2) = 200
+BENCHMARK_CAPTURE(lj_evaluate, far_gap, 1000.0);               // (d - cR) / (h/2) = 200: difference form
+BENCHMARK_CAPTURE(lj_evaluate, far_stable_form, 20000.0);      // (d - cR) / (h/2) = 4000: thickness quadrature
 
 void geometric_plate_m6(benchmark::State& state) {
   const fibrane::laws::DiskPlate plate(6, 1.0, 0.1);
