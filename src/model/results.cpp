@@ -19,7 +19,10 @@ void push3(std::vector<double>& v, const Eigen::Vector3d& x) { v.insert(v.end(),
 
 io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
   io::VtuMesh mesh;
-  io::VtuMesh::Field disp{"displacement", 3, {}}, nf{"N_local", 3, {}}, mf{"M_local", 3, {}};
+  // N_local, M_local: physical section forces per current length in the frame e1 = g1/|g1|, e2 = n x e1
+  // (11, 22, 12); N_ab, M_ab: the contravariant components N^ab, M^ab of Eq. (29) (11, 22, 12).
+  io::VtuMesh::Field disp{"displacement", 3, {}}, nf{"N_local", 3, {}}, mf{"M_local", 3, {}},
+      nc{"N_contravariant", 3, {}}, mc{"M_contravariant", 3, {}};
   const auto& u = m.displacement();
   for (std::size_t e = 0; e < s.elements.size(); ++e) {
     const auto& el = s.elements[e];
@@ -36,6 +39,8 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
         const auto f = shell::section_forces(s.section, b.R, X, x);
         push3(nf.values, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
         push3(mf.values, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
+        push3(nc.values, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
+        push3(mc.values, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
       }
     const int n = samples + 1;
     for (int j = 0; j < samples; ++j)
@@ -44,7 +49,7 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
         mesh.add_cell(io::vtk_cell::quad, {a, a + 1, a + n + 1, a + n});
       }
   }
-  mesh.point_data = {std::move(disp), std::move(nf), std::move(mf)};
+  mesh.point_data = {std::move(disp), std::move(nf), std::move(mf), std::move(nc), std::move(mc)};
   return mesh;
 }
 
