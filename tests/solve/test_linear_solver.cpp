@@ -77,7 +77,42 @@ TEST(LinearSolver, CholeskyRejectsIndefiniteAndAutoFallsBack) {
   EXPECT_EQ(automatic->name(), "auto(ldlt)");
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
   EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
-  EXPECT_EQ(make_linear_solver("auto", false)->name(), "umfpack");
+}
+
+// "auto" for a model that cannot promise symmetry: a symmetric matrix goes to the Cholesky chain, an
+// unsymmetric one (or one that turns unsymmetric between factorisations, same pattern) to LU. Solutions
+// are checked by their residual: condition numbers are below 1e3 here, so 1e-10 leaves a wide margin over
+// round-off while a wrong factor (e.g. LL^T of the lower triangle of an unsymmetric matrix) misses by O(1).
+TEST(LinearSolver, AutoProbesSymmetryOfUnpromisedMatrices) {
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(100, -1.0, 2.0);
+  const SpMat symmetric = grid_matrix(10, 0.1, 0.0);
+  const SpMat unsymmetric = grid_matrix(10, 0.1, 0.7);  // same pattern, convection part
+  auto solver = make_linear_solver("auto", false);
+  solver->analyze(symmetric);
+  ASSERT_TRUE(solver->factorize(symmetric));
+  EXPECT_EQ(solver->name(), "symmetric-auto(cholmod)");
+  EXPECT_LT((symmetric * solver->solve(b) - b).norm(), 1e-10 * b.norm());
+  ASSERT_TRUE(solver->factorize(unsymmetric));
+  EXPECT_EQ(solver->name(), "umfpack");
+  EXPECT_LT((unsymmetric * solver->solve(b) - b).norm(), 1e-10 * b.norm());
+  ASSERT_TRUE(solver->factorize(symmetric));
+  EXPECT_EQ(solver->name(), "symmetric-auto(cholmod)");
+
+  // Round-off-level asymmetry (1e-15 relative, what summation order leaves) still counts as symmetric.
+  SpMat nearly = symmetric;
+  nearly.coeffRef(3, 4) *= 1.0 + 1e-15;
+  solver->analyze(nearly);
+  ASSERT_TRUE(solver->factorize(nearly));
+  EXPECT_EQ(solver->name(), "symmetric-auto(cholmod)");
+
+  // A pattern that is not structurally symmetric goes to LU directly.
+  SpMat lopsided = symmetric;
+  lopsided.coeffRef(0, 50) = 0.3;
+  lopsided.makeCompressed();
+  solver->analyze(lopsided);
+  ASSERT_TRUE(solver->factorize(lopsided));
+  EXPECT_EQ(solver->name(), "umfpack");
+  EXPECT_LT((lopsided * solver->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
 TEST(LinearSolver, SymbolicAnalysisIsReusedForNewValues) {
