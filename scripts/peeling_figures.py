@@ -6,7 +6,7 @@
 Every variant is a text edit of examples/peeling.yaml, run into results/peeling/<variant>/ (a variant whose
 summary.json says "completed" is not run again, so an interrupted call resumes). The PNGs go to docs/figures/.
 --quick uses coarse meshes and large steps (a smoke test of the whole chain, into results/peeling-quick/ and
-docs/figures/quick/). --only NAME runs (and draws) only the variants whose name contains NAME.
+docs/figures/quick/). --only A,B runs only the variants whose name contains A or B (figures are drawn from all finished runs).
 """
 import argparse
 import csv
@@ -30,10 +30,10 @@ EXAMPLE = ROOT / "examples" / "peeling.yaml"
 
 # Mesh texts as they appear in the example (beam elements, shell elements [u, v]).
 BASE_MESH = ("elements: 100", "elements: [20, 10]")
-MESHES = {"50x10x5": (50, 10, 5), "100x20x10": (100, 20, 10), "200x40x20": (200, 40, 20)}
+MESHES = {"50x10x5": (50, 10, 5), "100x20x10": (100, 20, 10), "150x30x15": (150, 30, 15)}
 QUICK_MESHES = {"20x6x4": (20, 6, 4), "30x8x4": (30, 8, 4), "40x10x6": (40, 10, 6)}
-# The finest mesh of the paper, 200 x 40 x 20, takes far more than 15 min on the 2-core build machine
-# (docs/examples.md); 150 x 30 x 15 is the finest that finishes in time.
+# The paper's finest mesh, 200 x 40 x 20, needs ~8 s per Newton iteration with one thread on the shared
+# 2-core build machine (~1 h to pull-off, docs/examples.md); 150 x 30 x 15 is the finest used here.
 
 
 def mesh_edits(beam, shell_u, shell_v):
@@ -131,23 +131,36 @@ def characteristic(h):
     running = np.maximum.accumulate(f[:pull + 1])
     drop = np.nonzero(f[:pull + 1] < 0.99 * running)[0]
     peak = int(np.argmax(f[:drop[0]])) if drop.size else int(np.argmax(f[:pull + 1]))
-    minimum = peak + int(np.argmin(f[peak:pull]))
+    minimum = peak + int(np.argmin(f[peak:max(pull, peak + 1)]))
     return {"peak": peak, "min": minimum, "pulloff": pull, "before": pull - 1 if gone.size else pull,
             "pulloff_found": bool(gone.size)}
+
+
+def vertex(t, f, i):
+    """Time and value of the extremum of the parabola through steps i-1, i, i+1 (the steps are up to 1e-3
+    apart, so the sampled extremum alone is only that accurate)."""
+    if i < 1 or i + 1 >= len(t):
+        return t[i], f[i]
+    a, b, c = np.polyfit(t[i - 1:i + 2], f[i - 1:i + 2], 2)
+    if a == 0:
+        return t[i], f[i]
+    tv = -b / (2 * a)
+    return tv, c - b * b / (4 * a)
 
 
 def summarize(results, names):
     table = {}
     for name in names:
         d = results / name
-        if not (d / "history.csv").exists():
+        if not is_completed(d):  # unfinished (interrupted) runs are not summarised
             continue
         h = read_history(d)
         c = characteristic(h)
         s = json.loads((d / "summary.json").read_text()) if (d / "summary.json").exists() else {}
+        t_peak, f_peak = vertex(h["t"], h["reaction_total_z"], c["peak"])
+        t_min, f_min = vertex(h["t"], h["reaction_total_z"], c["min"])
         table[name] = {
-            "t_peak": h["t"][c["peak"]], "f_peak": h["reaction_total_z"][c["peak"]],
-            "t_min": h["t"][c["min"]], "f_min": h["reaction_total_z"][c["min"]],
+            "t_peak": t_peak, "f_peak": f_peak, "t_min": t_min, "f_min": f_min,
             "t_pulloff": h["t"][c["pulloff"]],
             "f_before_pulloff": h["reaction_total_z"][c["before"]], "energy_collapsed": c["pulloff_found"],
             "max_end_reaction_difference": float(np.max(np.abs(h["reaction_start_z"] - h["reaction_end_z"]))),
@@ -156,6 +169,13 @@ def summarize(results, names):
             "wall_seconds": s.get("wall_seconds"), "completed": s.get("completed"),
         }
     (results / "characteristics.json").write_text(json.dumps(table, indent=2, default=float))
+    lines = ["| run | max force | at t | min force | at t | pull-off t | force before pull-off | steps | Newton its "
+             "(converged steps) | wall s |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for name, r in table.items():
+        lines.append(f"| {name} | {r['f_peak']:.4f} | {r['t_peak']:.5f} | {r['f_min']:.4f} | {r['t_min']:.5f} | "
+                     f"{r['t_pulloff']:.5f} | {r['f_before_pulloff']:.4f} | {r['steps']} | {r['newton_iterations']} | "
+                     f"{r['wall_seconds'] or 0:.0f} |")
+    (results / "characteristics.md").write_text("\n".join(lines) + "\n")
     for name, r in table.items():
         print(f"  {name:22s} peak {r['f_peak']:.4f} at t={r['t_peak']:.5f}  min {r['f_min']:.4f} at "
               f"t={r['t_min']:.5f}  pull-off t={r['t_pulloff']:.5f}{'' if r['energy_collapsed'] else ' (limit point)'}"
@@ -170,7 +190,9 @@ def plot_reactions(ax, results, entries, zoom=None):
             continue
         h = read_history(d)
         keep = h["t"] <= zoom if zoom else slice(None)
-        ax.plot(h["t"][keep], h["reaction_total_z"][keep], label=label, lw=1.2)
+        line, = ax.plot(h["t"][keep], h["reaction_total_z"][keep], label=label, lw=1.2)
+        if not zoom:  # the last equilibrium before pull-off (the run ends at the limit point)
+            ax.plot(h["t"][-1], h["reaction_total_z"][-1], "x", color=line.get_color())
     ax.set_xlabel("quasi-time t")
     ax.set_ylabel("total reaction force on the beam")
     ax.grid(alpha=0.3)
@@ -209,7 +231,7 @@ def figures(results, figdir, quick, table):
         ax.set_xlabel("beam parameter xi")
         ax.set_ylabel("|interaction force| per unit length")
         ax.grid(alpha=0.3)
-        ax.legend()
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
         save(fig, figdir / "peeling_fig17_force_along_beam.png")
 
     fig, ax = plt.subplots(figsize=(6.5, 4))
@@ -237,7 +259,7 @@ def figures(results, figdir, quick, table):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--jobs", type=int, default=1, help="runs in parallel (each with one thread)")
-    p.add_argument("--only", help="run only the variants whose name contains this text")
+    p.add_argument("--only", help="run only the variants whose name contains one of these (comma-separated) texts")
     p.add_argument("--quick", action="store_true", help="coarse meshes and large steps (smoke test)")
     p.add_argument("--fibrane", default=None, help="the fibrane executable (default: build*/app/fibrane)")
     p.add_argument("--no-run", action="store_true", help="only draw from existing results")
@@ -251,7 +273,8 @@ def main():
     results = ROOT / ("results/peeling-quick" if args.quick else "results/peeling")
     figdir = ROOT / "docs" / "figures" / ("quick" if args.quick else "")
     results.mkdir(parents=True, exist_ok=True)
-    todo = {n: e for n, e in variants(args.quick).items() if not args.only or args.only in n}
+    wanted = args.only.split(",") if args.only else []
+    todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
     if not args.no_run:
         print(f"running {len(todo)} variants with {fibrane} ({args.jobs} at a time) into {results}")
         with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:

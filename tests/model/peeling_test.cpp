@@ -32,7 +32,7 @@ TEST(PeelingExample, CoarseRunRisesFallsAndPullsOff) {
       {"elements: [20, 10]", "elements: [6, 4]"},
       {"elements: 100", "elements: 20"},
       {"dt: 2.0e-5", "dt: 1.0e-4"},
-      {"dt_max: 1.0e-3", "dt_min: 1.0e-6\n  dt_max: 4.0e-3"},
+      {"dt_max: 1.0e-3", "dt_max: 4.0e-3"},
       {"t_end: 0.3", "t_end: 0.6"},
       {"output: {directory: out/peeling, vtk_every: 10}", "output: {vtk: false}"}}), 1);
   const auto& t = r.history.at("t");
@@ -43,13 +43,13 @@ TEST(PeelingExample, CoarseRunRisesFallsAndPullsOff) {
   const std::size_t n = t.size();
   ASSERT_GT(n, 10u) << r.summary.result.message;
 
-  // Pull-off: the interaction energy falls below 1e-3 of its peak (the example's stop condition), or, when
-  // the continuation cannot jump to the detached state, the step control stalls at the limit point
-  // (dt below dt_min) well before t_end with the beam still partly adhering.
+  // Pull-off ends the run (steps.stop of the example) well before t_end: either the interaction energy
+  // falls below 1e-3 of its peak, or the path reaches the pull-off limit point (no equilibrium with the
+  // beam partly adhering beyond it, the step is cut back below dt_min) with the beam still adhering.
   const double e0 = std::abs(energy.front());
   const bool collapsed = std::abs(energy.back()) < 1e-3 * e0;
-  const bool stalled = !r.summary.result.completed && t.back() < 0.5;
-  ASSERT_TRUE(collapsed || stalled) << "no pull-off: " << r.summary.result.message << " at t = " << t.back();
+  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_LT(t.back(), 0.5) << "no pull-off before t = 0.5: " << r.summary.result.message;
   // the last equilibrium state before the jump
   const std::size_t before = collapsed ? n - 2 : n - 1;
 
@@ -70,11 +70,12 @@ TEST(PeelingExample, CoarseRunRisesFallsAndPullsOff) {
   EXPECT_LT(std::abs(energy[minimum]), 0.9 * e0);
 
   // Unequal end reactions (Sec. 6.1): the start end is held in x and twist, the other end slides, so the
-  // problem is not symmetric. 1e-4 of the peak force is far above the solver's residual (1e-8 absolute)
-  // and far below the difference seen in the example (~1e-3 of the force).
+  // problem is not symmetric. 1e-5 of the peak force is 1000 times the solver's absolute residual
+  // tolerance (1e-8; a symmetric problem gives equal reactions to that level) and about a tenth of the
+  // difference seen in the example (~1e-4 of the force at 100 x 20 x 10).
   double largest_difference = 0.0;
   for (std::size_t i = 0; i < n; ++i) largest_difference = std::max(largest_difference, std::abs(start[i] - end[i]));
-  EXPECT_GT(largest_difference, 1e-4 * force[peak]);
+  EXPECT_GT(largest_difference, 1e-5 * force[peak]);
   // The two ends together carry the total (the monitor sums the same reactions): round-off only.
   for (std::size_t i = 0; i < n; ++i) EXPECT_NEAR(start[i] + end[i], force[i], 1e-9 * (1 + std::abs(force[i])));
 }
