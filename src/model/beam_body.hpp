@@ -8,11 +8,7 @@
 
 #include "beam/beam.hpp"
 #include "spline/curve.hpp"
-
-namespace fibrane::solve {
-class DofMap;
-class SparseAssembler;
-}  // namespace fibrane::solve
+#include "solve/forward.hpp"
 
 namespace fibrane::model {
 

@@ -11,11 +11,7 @@
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
 #include "laws/lennard_jones.hpp"
-
-namespace fibrane::solve {
-class DofMap;
-class SparseAssembler;
-}  // namespace fibrane::solve
+#include "solve/forward.hpp"
 
 namespace fibrane::model {
 

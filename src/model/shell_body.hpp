@@ -7,11 +7,7 @@
 
 #include "shell/kl_shell.hpp"
 #include "spline/surface.hpp"
-
-namespace fibrane::solve {
-class DofMap;
-class SparseAssembler;
-}  // namespace fibrane::solve
+#include "solve/forward.hpp"
 
 namespace fibrane::model {
 

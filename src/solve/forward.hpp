@@ -1,0 +1,6 @@
+#pragma once
+// Forward declarations for headers that only pass the solver's objects by reference.
+namespace fibrane::solve {
+class DofMap;
+class SparseAssembler;
+}  // namespace fibrane::solve
