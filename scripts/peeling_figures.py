@@ -183,13 +183,15 @@ def summarize(results, names):
     return table
 
 
-def plot_reactions(ax, results, entries, zoom=None):
+def plot_reactions(ax, results, entries, zoom=None, window=None):
     for name, label in entries:
         d = results / alias(name, results.name.endswith("quick"))
         if not (d / "history.csv").exists():
             continue
         h = read_history(d)
         keep = h["t"] <= zoom if zoom else slice(None)
+        if window:
+            keep = (h["t"] >= window[0]) & (h["t"] <= window[1])
         line, = ax.plot(h["t"][keep], h["reaction_total_z"][keep], label=label, lw=1.2)
         if not zoom:  # the last equilibrium before pull-off (the run ends at the limit point)
             ax.plot(h["t"][-1], h["reaction_total_z"][-1], "x", color=line.get_color())
@@ -234,8 +236,12 @@ def figures(results, figdir, quick, table):
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
         save(fig, figdir / "peeling_fig17_force_along_beam.png")
 
-    fig, ax = plt.subplots(figsize=(6.5, 4))
-    plot_reactions(ax, results, [("formulation_FF", "FF"), ("formulation_RF1", "RF1"), ("formulation_RF2", "RF2")])
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    formulations = [("formulation_FF", "FF"), ("formulation_RF1", "RF1"), ("formulation_RF2", "RF2")]
+    plot_reactions(axes[0], results, formulations)
+    axes[0].set_title("a) complete response")
+    plot_reactions(axes[1], results, formulations, window=(0.11, 1.0))
+    axes[1].set_title("b) near pull-off (x: last equilibrium)")
     save(fig, figdir / "peeling_fig18_formulations.png")
 
     fig, ax = plt.subplots(figsize=(6.5, 4))
