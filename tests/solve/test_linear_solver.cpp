@@ -79,6 +79,19 @@ TEST(LinearSolver, CholeskyRejectsIndefiniteAndAutoFallsBack) {
   EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
+// Above 20 000 unknowns an indefinite matrix skips the simplicial LDL^T (too slow there) and goes to LU.
+TEST(LinearSolver, AutoSendsLargeIndefiniteMatricesToLu) {
+  const SpMat a = grid_matrix(150, -1.3, 0.0);  // 22 500 unknowns; shifted Laplacian, indefinite
+  auto automatic = make_linear_solver("auto", true);
+  automatic->analyze(a);
+  ASSERT_TRUE(automatic->factorize(a));
+  EXPECT_EQ(automatic->name(), "auto(umfpack)");
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
+  // The smallest |eigenvalue| of this shift is ~1e-3 (eigenvalues 4 - 2cos - 2cos - 1.3 on a fine grid
+  // pass close to 0), so allow 1e-8 relative residual; a wrong factorisation misses by O(1).
+  EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-8 * b.norm());
+}
+
 // "auto" for a model that cannot promise symmetry: a symmetric matrix goes to the Cholesky chain, an
 // unsymmetric one (or one that turns unsymmetric between factorisations, same pattern) to LU. Solutions
 // are checked by their residual: condition numbers are below 1e3 here, so 1e-10 leaves a wide margin over
