@@ -5,8 +5,8 @@
 
 Every variant is a text edit of examples/peeling.yaml, run into results/peeling/<variant>/ (a variant whose
 summary.json says "completed" is not run again, so an interrupted call resumes). The PNGs go to docs/figures/.
---quick uses coarse meshes and large steps (a smoke test of the whole chain, into results/peeling-quick/ and
-docs/figures/quick/). --only A,B runs only the variants whose name contains A or B (figures are drawn from all finished runs).
+--quick uses coarse meshes and large steps (a smoke test of the whole chain, runs and PNGs into
+results/peeling-quick/). --only A,B runs only the variants whose name contains A or B (figures are drawn from all finished runs).
 """
 import argparse
 import csv
@@ -281,7 +281,7 @@ def main():
             sys.exit("peeling_figures: no fibrane executable (build it, or pass --fibrane)")
         fibrane = str(found[-1])
     results = ROOT / ("results/peeling-quick" if args.quick else "results/peeling")
-    figdir = ROOT / "docs" / "figures" / ("quick" if args.quick else "")
+    figdir = results / "figures" if args.quick else ROOT / "docs" / "figures"
     results.mkdir(parents=True, exist_ok=True)
     wanted = args.only.split(",") if args.only else []
     todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
