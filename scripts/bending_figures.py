@@ -1,0 +1,259 @@
+#!/usr/bin/python3
+"""Shell bending by an adhering fiber (paper Sec. 6.2): run the variants, then draw Figs. 23-26.
+
+    scripts/bending_figures.py [--jobs N] [--only NAME] [--quick] [--fibrane PATH] [--no-run]
+
+Every variant is a text edit of examples/bending.yaml, run into results/bending/<variant>/ (a variant whose
+summary.json says "completed", or that ended at a limit point, is not run again, so an interrupted call
+resumes). The paper's mesh is the example itself; its run is taken from results/bending-paper/ when that
+holds a finished run. PNGs go to docs/figures/ (docs/figures/quick/ with --quick, which uses coarse meshes
+into results/bending-quick/: a smoke test of the whole chain).
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "examples" / "bending.yaml"
+BASE_MESH = ("elements: 400", "elements: [100, 100]")  # beam, shell (u, v) as written in the example
+MESHES = {"100x25x25": (100, 25), "200x50x50": (200, 50), "300x75x75": (300, 75), "400x100x100": (400, 100)}
+QUICK_MESHES = {"20x5x5": (20, 5), "40x10x10": (40, 10), "60x15x15": (60, 15), "80x20x20": (80, 20)}
+STRENGTHS = ("0.5", "1", "2")
+
+
+def variants(quick):
+    """name -> list of (old text, new text) edits; strengths are run on the second-finest mesh."""
+    meshes = QUICK_MESHES if quick else MESHES
+    v = {}
+    for name, (beam, shell) in meshes.items():
+        v[f"mesh_{name}"] = [(BASE_MESH[0], f"elements: {beam}"), (BASE_MESH[1], f"elements: [{shell}, {shell}]")]
+    strength_mesh = v[f"mesh_{list(meshes)[2]}"]
+    for s in STRENGTHS:
+        if s != "1":
+            v[f"strength_{s}"] = strength_mesh + [("strength: STRENGTH", None, s)]
+    return v
+
+
+def strength_of(text):
+    at = text.find("strength:", text.find("lennard_jones"))
+    end = text.find("}", at)
+    return float(text[at + len("strength:"):end])
+
+
+def case_text(edits, quick):
+    text = EXAMPLE.read_text()
+    if quick:
+        edits = edits + [("vtk_every: 5", "vtk_every: 100")]
+    for edit in edits:
+        if edit[0] == "strength: STRENGTH":  # relative to the example's strength
+            at = text.find("strength:", text.find("lennard_jones"))
+            end = text.find("}", at)
+            text = text[:at] + f"strength: {strength_of(text) * float(edit[2]):g}" + text[end:]
+            continue
+        old, new = edit
+        if old not in text:
+            sys.exit(f"bending_figures: '{old}' not found in {EXAMPLE}; the example changed")
+        text = text.replace(old, new, 1)
+    return text
+
+
+def is_finished(directory):
+    try:
+        s = json.loads((directory / "summary.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return s.get("completed", False) or "dt below dt_min" in s.get("message", "")
+
+
+def run_dir(results, name, quick):
+    paper = ROOT / "results" / "bending-paper"
+    if not quick and name == "mesh_400x100x100" and is_finished(paper):
+        return paper
+    return results / name
+
+
+def run_variant(name, edits, results, fibrane, quick):
+    out = run_dir(results, name, quick)
+    if is_finished(out):
+        print(f"  {name}: finished earlier, kept ({out})")
+        return
+    case = results / f"{name}.yaml"
+    case.write_text(case_text(edits, quick))
+    start = time.time()
+    with open(results / f"{name}.log", "w") as log:
+        code = subprocess.call([fibrane, "run", str(case), "-o", str(out), "--threads", "1", "-q"],
+                               stdout=log, stderr=subprocess.STDOUT)
+    print(f"  {name}: exit {code} after {time.time() - start:.0f} s")
+
+
+def read_csv(path):
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def end_force(directory, steps):
+    """Interaction force (z, per length) at the Gauss point nearest the beam end, per step."""
+    out = []
+    for k in steps:
+        f = directory / "interaction" / f"adhesion_{int(k):06d}.csv"
+        out.append(read_csv(f)["force_z"][-1] if f.exists() else np.nan)
+    return np.array(out)
+
+
+def save(fig, path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    print(f"  wrote {path.relative_to(ROOT)}")
+
+
+def figures(results, figdir, quick):
+    meshes = list(QUICK_MESHES if quick else MESHES)
+    done = {m: run_dir(results, f"mesh_{m}", quick) for m in meshes}
+    done = {m: d for m, d in done.items() if (d / "history.csv").exists()}
+    table = []
+    # Fig. 23: u_z and interaction force at the beam end vs t, four meshes.
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for m, d in done.items():
+        h = read_csv(d / "history.csv")
+        ax[0].plot(h["t"], h["end_uz"], label=m)
+        f = end_force(d, h["step"])
+        ax[1].plot(h["t"], f, label=m)
+        table.append((m, h["t"][-1], h["end_uz"][-1], f[-1], len(h["t"]) - 1))
+    ax[0].set(xlabel="t", ylabel="u_z at the beam end", title="a) displacement at the beam end")
+    ax[1].set(xlabel="t", ylabel="interaction force f_z at the last Gauss point", title="b) interaction force")
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend()
+    save(fig, figdir / "bending_fig23_meshes.png")
+    print("| mesh | t reached | u_z(end) | f_z(end) | steps |\n|---|---|---|---|---|")
+    for row in table:
+        print(f"| {row[0]} | {row[1]:.4f} | {row[2]:.5g} | {row[3]:.5g} | {row[4]} |")
+
+    if not done:
+        return
+    finest = list(done.values())[-1]
+    h = read_csv(finest / "history.csv")
+    # Fig. 24: force distribution near the end (s measured from the beam end) at five instants.
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for target in (0.2, 0.4, 0.6, 0.828, 1.0):
+        k = int(h["step"][np.argmin(np.abs(h["t"] - target))])
+        f = finest / "interaction" / f"adhesion_{k:06d}.csv"
+        if not f.exists():
+            continue
+        p = read_csv(f)
+        xi = 1.0 - p["xi"]  # the paper's xi = 0 is the beam end; ours runs from the mirror end
+        for a, lim in zip(ax, (0.005, 0.025)):
+            sel = xi <= lim
+            a.plot(xi[sel], p["force_z"][sel], ".-", label=f"t = {h['t'][k]:.3f}")
+    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title="a) xi in (0, 0.005)")
+    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
+    ax[1].set_ylim(-5, 5)
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend()
+    save(fig, figdir / "bending_fig24_force_distribution.png")
+    shell_section_forces(finest, figdir)
+    # Fig. 26: three strengths at the final state.
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    strength_mesh = f"mesh_{meshes[2]}"
+    for s in STRENGTHS:
+        d = run_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick)
+        if not (d / "history.csv").exists():
+            continue
+        last = int(read_csv(d / "history.csv")["step"][-1])
+        p = read_csv(d / "interaction" / f"adhesion_{last:06d}.csv")
+        xi = 1.0 - p["xi"]
+        for a, lim in zip(ax, (0.002, 0.025)):
+            sel = xi <= lim
+            a.plot(xi[sel], p["force_z"][sel], ".-", label=f"{s} s_ref")
+    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title="a) xi in (0, 0.002)")
+    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
+    ax[1].set_ylim(-5, 5)
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend()
+    save(fig, figdir / "bending_fig26_strengths.png")
+
+
+def shell_section_forces(directory, figdir):
+    """Fig. 25: every point-data array of the last shell VTK file, drawn over the reference plane."""
+    try:
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    except ImportError:
+        print("  no python3-vtk: Fig. 25 skipped")
+        return
+    files = sorted((directory / "vtk").glob("membrane_*.vtu"))
+    if not files:
+        return
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(files[-1]))
+    reader.Update()
+    grid = reader.GetOutput()
+    xyz = vtk_to_numpy(grid.GetPoints().GetData())
+    data = grid.GetPointData()
+    names = [data.GetArrayName(i) for i in range(data.GetNumberOfArrays())]
+    # Section forces and moments in the local (orthonormal) frame: N_11, N_22, N_12 and M_11, M_22, M_12.
+    wanted = [(n, c) for n in ("N_local", "M_local") if n in names for c in range(3)]
+    if not wanted:
+        return
+    disp = vtk_to_numpy(data.GetArray("displacement")) if "displacement" in names else np.zeros_like(xyz)
+    ref = xyz - disp
+    fig, axes = plt.subplots(2, 3, figsize=(12.6, 7.2), squeeze=False)
+    labels = ("11", "22", "12")
+    for a, (name, c) in zip(axes.flat, wanted):
+        v = vtk_to_numpy(data.GetArray(name))
+        v = v if v.ndim == 1 else v[:, c]
+        s = a.tricontourf(ref[:, 0], ref[:, 1], v, levels=30, cmap="coolwarm")
+        fig.colorbar(s, ax=a)
+        a.set(title=f"{name[0]}_{labels[c]} at t = 1", aspect="equal", xlabel="X", ylabel="Y")
+    for a in list(axes.flat)[len(wanted):]:
+        a.axis("off")
+    save(fig, figdir / "bending_fig25_section_forces.png")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--jobs", type=int, default=1, help="runs in parallel (each with one thread)")
+    p.add_argument("--only", help="run only the variants whose name contains one of these (comma-separated) texts")
+    p.add_argument("--quick", action="store_true", help="coarse meshes (smoke test)")
+    p.add_argument("--fibrane", default=None, help="the fibrane executable (default: newest build*/app/fibrane)")
+    p.add_argument("--no-run", action="store_true", help="only draw from existing results")
+    args = p.parse_args()
+    fibrane = args.fibrane or os.environ.get("FIBRANE_BIN")
+    if not fibrane:
+        found = sorted(ROOT.glob("build*/app/fibrane"), key=lambda f: f.stat().st_mtime)
+        if not found:
+            sys.exit("bending_figures: no fibrane executable (build it, or pass --fibrane)")
+        fibrane = str(found[-1])
+    results = ROOT / ("results/bending-quick" if args.quick else "results/bending")
+    figdir = ROOT / "docs" / "figures" / ("quick" if args.quick else "")
+    results.mkdir(parents=True, exist_ok=True)
+    wanted = args.only.split(",") if args.only else []
+    todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
+    if not args.no_run:
+        print(f"running {len(todo)} variants with {fibrane} ({args.jobs} at a time) into {results}")
+        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+            for f in [pool.submit(run_variant, n, e, results, fibrane, args.quick) for n, e in todo.items()]:
+                f.result()
+    figures(results, figdir, args.quick)
+
+
+if __name__ == "__main__":
+    main()
