@@ -6,8 +6,8 @@
 Every variant is a text edit of examples/bending.yaml, run into results/bending/<variant>/ (a variant whose
 summary.json says "completed", or that ended at a limit point, is not run again, so an interrupted call
 resumes). The paper's mesh is the example itself; its run is taken from results/bending-paper/ when that
-holds a finished run. PNGs go to docs/figures/ (docs/figures/quick/ with --quick, which uses coarse meshes
-into results/bending-quick/: a smoke test of the whole chain).
+holds a finished run. PNGs go to docs/figures/ (with --quick, which uses coarse meshes
+into results/bending-quick/ as a smoke test of the whole chain, to results/bending-quick/figures/).
 """
 import argparse
 import csv
@@ -243,7 +243,7 @@ def main():
             sys.exit("bending_figures: no fibrane executable (build it, or pass --fibrane)")
         fibrane = str(found[-1])
     results = ROOT / ("results/bending-quick" if args.quick else "results/bending")
-    figdir = ROOT / "docs" / "figures" / ("quick" if args.quick else "")
+    figdir = results / "figures" if args.quick else ROOT / "docs" / "figures"  # quick PNGs stay with the runs
     results.mkdir(parents=True, exist_ok=True)
     wanted = args.only.split(",") if args.only else []
     todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
