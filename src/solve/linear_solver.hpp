@@ -31,7 +31,7 @@ class LinearSolver {
 // kind: "cholmod" (supernodal LL^T, symmetric positive definite), "ldlt" (CHOLMOD simplicial LDL^T,
 // symmetric indefinite without pivoting), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T, falling back
 // to ldlt (up to 20 000 unknowns; larger ones skip the simplicial LDL^T) then umfpack when a factorisation
-// fails; when symmetric == false it checks every matrix against
+// fails, trying LL^T first again at every factorisation; when symmetric == false it checks every matrix against
 // its transpose and takes that chain while the values are symmetric to round-off (1e-12 of the largest
 // entry), umfpack otherwise; the name then reads "symmetric-auto(...)" or "umfpack").
 // Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false.

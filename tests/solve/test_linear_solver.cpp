@@ -79,6 +79,19 @@ TEST(LinearSolver, CholeskyRejectsIndefiniteAndAutoFallsBack) {
   EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
+// One indefinite matrix (a wild Newton iterate) must not keep "auto" off the Cholesky factorisation.
+TEST(LinearSolver, AutoReturnsToCholeskyAfterAnIndefiniteMatrix) {
+  const SpMat indefinite = grid_matrix(8, -1.3, 0.0), spd = grid_matrix(8, 0.1, 0.0);  // same pattern
+  auto automatic = make_linear_solver("auto", true);
+  automatic->analyze(spd);
+  ASSERT_TRUE(automatic->factorize(indefinite));
+  EXPECT_EQ(automatic->name(), "auto(ldlt)");
+  ASSERT_TRUE(automatic->factorize(spd));
+  EXPECT_EQ(automatic->name(), "auto(cholmod)");
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
+  EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());  // condition number < 1e3
+}
+
 // Above 20 000 unknowns an indefinite matrix skips the simplicial LDL^T (too slow there) and goes to LU.
 TEST(LinearSolver, AutoSendsLargeIndefiniteMatricesToLu) {
   const SpMat a = grid_matrix(150, -1.3, 0.0);  // 22 500 unknowns; shifted Laplacian, indefinite
