@@ -29,7 +29,8 @@ struct NewtonOptions {
   int max_iterations = 20;
   double tol_relative = 1e-9;
   double tol_absolute = 1e-12;
-  // Also converged when an update is this small relative to |q| and the residual it leads to did not grow:
+  // Also converged when an update is this small relative to |q| and the residual it leads to is at most
+  // twice the previous one:
   // the residual has then reached its round-off floor (fine meshes, stiff parts next to weak interaction
   // forces), where a purely relative residual test can never be met. 0 disables it.
   double tol_increment = 1e-10;

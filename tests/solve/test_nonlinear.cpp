@@ -148,5 +148,53 @@ TEST(Newton, ReportsFailuresInsteadOfReturningGarbage) {
   EXPECT_NE(bad.failure.find("non-finite"), std::string::npos) << bad.failure;
 }
 
+// A linear system r = K q - f plus a residual "floor": noise of size 1e-6 that grows by 1 % at every
+// evaluation, as summation round-off wanders when it dominates. The tolerances (1e-12) lie below the floor,
+// so only the round-off-floor test can end the iteration. With the floor rising at every evaluation, a rule
+// that needs the residual to fall there never converges; the accepted rule (a tiny update and at most
+// twice the previous residual) must stop within two updates of reaching the floor, at a q within
+// |K^-1| x floor ~ 1e-6 of the exact solution.
+class NoisyLinearSystem final : public NonlinearSystem {
+ public:
+  NoisyLinearSystem() : k_(3, 3), f_(3), r_(3) {
+    k_.insert(0, 0) = 4;
+    k_.insert(1, 1) = 3;
+    k_.insert(2, 2) = 2;
+    k_.insert(0, 1) = k_.insert(1, 0) = 1;
+    k_.makeCompressed();
+    f_ << 1e3, -2e3, 5e2;  // |q| ~ 1e3, so tol_increment 1e-10 means |dq| <= ~1e-7
+  }
+  int size() const override { return 3; }
+  void evaluate(const Eigen::VectorXd& q, double, bool) override {
+    const double noise = 1e-6 * std::pow(1.01, evaluations++);
+    r_ = k_ * q - f_ + Eigen::Vector3d(noise, -noise, noise);
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 1; }
+  Eigen::VectorXd exact() const { return Eigen::MatrixXd(k_).ldlt().solve(f_); }
+  int evaluations = 0;
+
+ private:
+  Eigen::SparseMatrix<double> k_;
+  Eigen::VectorXd f_, r_;
+};
+
+TEST(Newton, StopsAtAWanderingRoundOffFloor) {
+  NoisyLinearSystem sys;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(3);
+  NewtonOptions opt;
+  opt.tol_relative = opt.tol_absolute = 1e-12;
+  opt.max_iterations = 10;
+  const NewtonReport rep = newton_solve(sys, q, 1.0, opt, *solver);
+  ASSERT_TRUE(rep.converged) << rep.failure;
+  // Update 1 solves the linear part (residual = noise), update 2 is the first tiny one: converged at the
+  // evaluation after it.
+  EXPECT_LE(rep.iterations, 3);
+  EXPECT_LT(rep.residual_norm, 1e-5);
+  EXPECT_LT((q - sys.exact()).norm(), 1e-5);
+}
+
 }  // namespace
 }  // namespace fibrane::solve
