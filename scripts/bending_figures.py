@@ -9,15 +9,7 @@ resumes). The paper's mesh is the example itself; its run is taken from results/
 holds a finished run. PNGs go to docs/figures/ (with --quick, which uses coarse meshes
 into results/bending-quick/ as a smoke test of the whole chain, to results/bending-quick/figures/).
 """
-import argparse
-import csv
-import json
-import os
-import subprocess
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import numpy as np
 
@@ -26,7 +18,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+import fibrane_runs  # noqa: E402
+
+ROOT = fibrane_runs.ROOT
 EXAMPLE = ROOT / "examples" / "bending.yaml"
 BASE_MESH = ("elements: 400", "elements: [100, 100]")  # beam, shell (u, v) as written in the example
 MESHES = {"100x25x25": (100, 25), "200x50x50": (200, 50), "300x75x75": (300, 75), "400x100x100": (400, 100)}
@@ -71,11 +65,7 @@ def case_text(edits, quick):
 
 
 def is_finished(directory):
-    try:
-        s = json.loads((directory / "summary.json").read_text())
-    except (OSError, ValueError):
-        return False
-    return s.get("completed", False) or "dt below dt_min" in s.get("message", "")
+    return fibrane_runs.is_finished(directory)
 
 
 def run_dir(results, name, quick):
@@ -90,19 +80,10 @@ def run_variant(name, edits, results, fibrane, quick):
     if is_finished(out):
         print(f"  {name}: finished earlier, kept ({out})")
         return
-    case = results / f"{name}.yaml"
-    case.write_text(case_text(edits, quick))
-    start = time.time()
-    with open(results / f"{name}.log", "w") as log:
-        code = subprocess.call([fibrane, "run", str(case), "-o", str(out), "--threads", "1", "-q"],
-                               stdout=log, stderr=subprocess.STDOUT)
-    print(f"  {name}: exit {code} after {time.time() - start:.0f} s")
+    fibrane_runs.run_case(fibrane, name, case_text(edits, quick), results, out)
 
 
-def read_csv(path):
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+read_csv = fibrane_runs.read_csv
 
 
 def end_force(directory, steps):
@@ -115,11 +96,7 @@ def end_force(directory, steps):
 
 
 def save(fig, path):
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    print(f"  wrote {path.relative_to(ROOT)}")
+    fibrane_runs.save(fig, path, dpi=130)
 
 
 def figures(results, figdir, quick):
@@ -229,29 +206,14 @@ def shell_section_forces(directory, figdir):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--jobs", type=int, default=1, help="runs in parallel (each with one thread)")
-    p.add_argument("--only", help="run only the variants whose name contains one of these (comma-separated) texts")
-    p.add_argument("--quick", action="store_true", help="coarse meshes (smoke test)")
-    p.add_argument("--fibrane", default=None, help="the fibrane executable (default: newest build*/app/fibrane)")
-    p.add_argument("--no-run", action="store_true", help="only draw from existing results")
-    args = p.parse_args()
-    fibrane = args.fibrane or os.environ.get("FIBRANE_BIN")
-    if not fibrane:
-        found = sorted(ROOT.glob("build*/app/fibrane"), key=lambda f: f.stat().st_mtime)
-        if not found:
-            sys.exit("bending_figures: no fibrane executable (build it, or pass --fibrane)")
-        fibrane = str(found[-1])
+    args = fibrane_runs.command_line(__doc__, "bending_figures")
     results = ROOT / ("results/bending-quick" if args.quick else "results/bending")
     figdir = results / "figures" if args.quick else ROOT / "docs" / "figures"  # quick PNGs stay with the runs
     results.mkdir(parents=True, exist_ok=True)
-    wanted = args.only.split(",") if args.only else []
-    todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
+    todo = fibrane_runs.selected(variants(args.quick), args.only)
     if not args.no_run:
-        print(f"running {len(todo)} variants with {fibrane} ({args.jobs} at a time) into {results}")
-        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            for f in [pool.submit(run_variant, n, e, results, fibrane, args.quick) for n, e in todo.items()]:
-                f.result()
+        print(f"running {len(todo)} variants with {args.fibrane} ({args.jobs} at a time) into {results}")
+        fibrane_runs.run_all(todo, lambda n, e: run_variant(n, e, results, args.fibrane, args.quick), args.jobs)
     figures(results, figdir, args.quick)
 
 

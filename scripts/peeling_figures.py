@@ -8,15 +8,8 @@ summary.json says "completed" is not run again, so an interrupted call resumes).
 --quick uses coarse meshes and large steps (a smoke test of the whole chain, runs and PNGs into
 results/peeling-quick/). --only A,B runs only the variants whose name contains A or B (figures are drawn from all finished runs).
 """
-import argparse
-import csv
 import json
-import os
-import subprocess
 import sys
-import time
-from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
 
 import numpy as np
 
@@ -25,7 +18,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = Path(__file__).resolve().parent.parent
+import fibrane_runs  # noqa: E402
+
+ROOT = fibrane_runs.ROOT
 EXAMPLE = ROOT / "examples" / "peeling.yaml"
 
 # Mesh texts as they appear in the example (beam elements, shell elements [u, v]).
@@ -83,13 +78,8 @@ def case_text(edits, quick):
 
 def is_completed(directory):
     """Finished runs: stopped by the energy condition or t_end ("completed"), or stalled at the pull-off
-    limit point (the step control cannot jump to the detached state: "dt below dt_min", see
-    docs/examples.md)."""
-    try:
-        s = json.loads((directory / "summary.json").read_text())
-    except (OSError, ValueError):
-        return False
-    return s.get("completed", False) or ("dt below dt_min" in s.get("message", "") and s.get("steps", 0) > 10)
+    limit point (see docs/examples.md)."""
+    return fibrane_runs.is_finished(directory, min_steps=10)
 
 
 def run_variant(name, edits, results, fibrane, quick):
@@ -97,25 +87,15 @@ def run_variant(name, edits, results, fibrane, quick):
     if is_completed(out):
         print(f"  {name}: completed earlier, kept")
         return
-    case = results / f"{name}.yaml"
-    case.write_text(case_text(edits, quick))
-    start = time.time()
-    with open(results / f"{name}.log", "w") as log:
-        code = subprocess.call([fibrane, "run", str(case), "-o", str(out), "--threads", "1", "-q"],
-                               stdout=log, stderr=subprocess.STDOUT)
-    print(f"  {name}: exit {code} after {time.time() - start:.0f} s")
+    fibrane_runs.run_case(fibrane, name, case_text(edits, quick), results, out)
 
 
 def read_history(directory):
-    with open(directory / "history.csv") as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    return fibrane_runs.read_csv(directory / "history.csv")
 
 
 def read_interaction(directory, step):
-    with open(directory / "interaction" / f"adhesion_{step:06d}.csv") as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    return fibrane_runs.read_csv(directory / "interaction" / f"adhesion_{step:06d}.csv")
 
 
 def characteristic(h):
@@ -206,10 +186,7 @@ def plot_reactions(ax, results, entries, zoom=None, window=None):
 
 
 def save(fig, path):
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    print(f"  wrote {path.relative_to(ROOT)} ({path.stat().st_size // 1024} kB)")
+    fibrane_runs.save(fig, path, dpi=90)
 
 
 def figures(results, figdir, quick, table):
@@ -267,29 +244,14 @@ def figures(results, figdir, quick, table):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--jobs", type=int, default=1, help="runs in parallel (each with one thread)")
-    p.add_argument("--only", help="run only the variants whose name contains one of these (comma-separated) texts")
-    p.add_argument("--quick", action="store_true", help="coarse meshes and large steps (smoke test)")
-    p.add_argument("--fibrane", default=None, help="the fibrane executable (default: build*/app/fibrane)")
-    p.add_argument("--no-run", action="store_true", help="only draw from existing results")
-    args = p.parse_args()
-    fibrane = args.fibrane or os.environ.get("FIBRANE_BIN")
-    if not fibrane:
-        found = sorted(ROOT.glob("build*/app/fibrane"), key=lambda f: f.stat().st_mtime)
-        if not found:
-            sys.exit("peeling_figures: no fibrane executable (build it, or pass --fibrane)")
-        fibrane = str(found[-1])
+    args = fibrane_runs.command_line(__doc__, "peeling_figures")
     results = ROOT / ("results/peeling-quick" if args.quick else "results/peeling")
     figdir = results / "figures" if args.quick else ROOT / "docs" / "figures"
     results.mkdir(parents=True, exist_ok=True)
-    wanted = args.only.split(",") if args.only else []
-    todo = {n: e for n, e in variants(args.quick).items() if not wanted or any(w in n for w in wanted)}
+    todo = fibrane_runs.selected(variants(args.quick), args.only)
     if not args.no_run:
-        print(f"running {len(todo)} variants with {fibrane} ({args.jobs} at a time) into {results}")
-        with ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-            for f in [pool.submit(run_variant, n, e, results, fibrane, args.quick) for n, e in todo.items()]:
-                f.result()
+        print(f"running {len(todo)} variants with {args.fibrane} ({args.jobs} at a time) into {results}")
+        fibrane_runs.run_all(todo, lambda n, e: run_variant(n, e, results, args.fibrane, args.quick), args.jobs)
     table = summarize(results, variants(args.quick))
     figures(results, figdir, args.quick, table)
 
