@@ -99,6 +99,24 @@ def save(fig, path):
     fibrane_runs.save(fig, path, dpi=130)
 
 
+def plot_end_distributions(curves, near, path):
+    """Interaction force f_z near the beam end: panel a) up to `near` in xi, panel b) up to 0.025, clipped.
+    curves: (interaction CSV columns, label) pairs."""
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    for p, label in curves:
+        xi = 1.0 - p["xi"]  # the paper's xi = 0 is the beam end; ours runs from the mirror end
+        for a, lim in zip(ax, (near, 0.025)):
+            sel = xi <= lim
+            a.plot(xi[sel], p["force_z"][sel], ".-", label=label)
+    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title=f"a) xi in (0, {near:g})")
+    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
+    ax[1].set_ylim(-5, 5)
+    for a in ax:
+        a.grid(alpha=0.3)
+        a.legend()
+    save(fig, path)
+
+
 def figures(results, figdir, quick):
     meshes = list(QUICK_MESHES if quick else MESHES)
     done = {m: run_dir(results, f"mesh_{m}", quick) for m in meshes}
@@ -127,45 +145,23 @@ def figures(results, figdir, quick):
     finest = list(done.values())[-1]
     h = read_csv(finest / "history.csv")
     # Fig. 24: force distribution near the end (s measured from the beam end) at five instants.
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    curves = []
     for target in (0.2, 0.4, 0.6, 0.828, 1.0):
         k = int(h["step"][np.argmin(np.abs(h["t"] - target))])
         f = finest / "interaction" / f"adhesion_{k:06d}.csv"
-        if not f.exists():
-            continue
-        p = read_csv(f)
-        xi = 1.0 - p["xi"]  # the paper's xi = 0 is the beam end; ours runs from the mirror end
-        for a, lim in zip(ax, (0.005, 0.025)):
-            sel = xi <= lim
-            a.plot(xi[sel], p["force_z"][sel], ".-", label=f"t = {h['t'][k]:.3f}")
-    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title="a) xi in (0, 0.005)")
-    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
-    ax[1].set_ylim(-5, 5)
-    for a in ax:
-        a.grid(alpha=0.3)
-        a.legend()
-    save(fig, figdir / "bending_fig24_force_distribution.png")
+        if f.exists():
+            curves.append((read_csv(f), f"t = {h['t'][k]:.3f}"))
+    plot_end_distributions(curves, 0.005, figdir / "bending_fig24_force_distribution.png")
     shell_section_forces(finest, figdir)
     # Fig. 26: three strengths at the final state.
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     strength_mesh = f"mesh_{meshes[2]}"
+    curves = []
     for s in STRENGTHS:
         d = run_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick)
-        if not (d / "history.csv").exists():
-            continue
-        last = int(read_csv(d / "history.csv")["step"][-1])
-        p = read_csv(d / "interaction" / f"adhesion_{last:06d}.csv")
-        xi = 1.0 - p["xi"]
-        for a, lim in zip(ax, (0.002, 0.025)):
-            sel = xi <= lim
-            a.plot(xi[sel], p["force_z"][sel], ".-", label=f"{s} s_ref")
-    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title="a) xi in (0, 0.002)")
-    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
-    ax[1].set_ylim(-5, 5)
-    for a in ax:
-        a.grid(alpha=0.3)
-        a.legend()
-    save(fig, figdir / "bending_fig26_strengths.png")
+        if (d / "history.csv").exists():
+            last = int(read_csv(d / "history.csv")["step"][-1])
+            curves.append((read_csv(d / "interaction" / f"adhesion_{last:06d}.csv"), f"{s} s_ref"))
+    plot_end_distributions(curves, 0.002, figdir / "bending_fig26_strengths.png")
 
 
 def shell_section_forces(directory, figdir):
