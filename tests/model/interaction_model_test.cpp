@@ -82,3 +82,35 @@ TEST(InteractionModel, FreeBeamSettlesAtTheEquilibriumDistance) {
 
 }  // namespace
 }  // namespace fibrane::testing
+
+namespace fibrane::testing {
+namespace {
+
+// symmetry_share 0.5 (a fiber lying in a mirror plane of the model) halves everything the beam
+// contributes: its strain energy, its interaction energy and its share of the residual. Both are
+// evaluated at the same deformed state, so the ratio is exact up to round-off.
+TEST(InteractionModel, SymmetryShareHalvesTheBeamsContributions) {
+  const auto law = the_law();
+  auto run = [&](const std::string& share) {
+    auto yaml = parallel_case(law.equilibrium_distance() * 1.01, "RF2");
+    const std::string section = "    section: {circle: {radius: 0.5}}";
+    yaml.replace(yaml.find(section), section.size(), section + "\n    symmetry_share: " + share);
+    const auto dir = fresh_directory("share-" + share);
+    std::ofstream(dir / "case.yaml") << yaml;
+    auto c = model::read_case((dir / "case.yaml").string());
+    Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(c.model->size(), 0.0, 0.002);
+    c.model->evaluate(q, 1.0, false);
+    return std::make_tuple(c.model->strain_energy(), c.model->couplings[0].energy(),
+                           Eigen::VectorXd(c.model->residual()));
+  };
+  const auto [e_full, i_full, r_full] = run("1.0");
+  const auto [e_half, i_half, r_half] = run("0.5");
+  ASSERT_GT(e_full, 0.0);
+  EXPECT_NEAR(e_half, 0.5 * e_full, 1e-12 * e_full);
+  EXPECT_NEAR(i_half, 0.5 * i_full, 1e-12 * std::abs(i_full));
+  // The plate is fully fixed, so every free unknown is a beam DOF: the whole residual halves.
+  EXPECT_LT((r_half - 0.5 * r_full).norm(), 1e-12 * r_full.norm());
+}
+
+}  // namespace
+}  // namespace fibrane::testing
