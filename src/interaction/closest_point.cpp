@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <stdexcept>
 
@@ -37,6 +38,41 @@ std::pair<double, double> sample_parameters(const spline::SurfaceElement& e, int
 }
 
 constexpr int kMaxIterations = 60;
+constexpr int kMaxEscapes = 4;
+
+double f_of(const Eigen::Vector3d& p, const SurfaceJet& s) { return 0.5 * (p - s.r).squaredNorm(); }
+
+// From a stationary point theta of f = |p - r|^2 / 2 where the Hessian C_ab has a negative eigenvalue
+// (C e = lambda g e, lambda < 0), a step along +-e lowers f by ~ |lambda| s^2 / 2 for a surface step of
+// length s. The sign keeps the step inside the parameter box (a saddle on the mirror edge u = 0 escapes to
+// u > 0); the length starts at the distance |p - r| (the scale on which a groove's minimum lies) and is
+// halved until f falls clearly below f0. nullopt: no negative curvature, or no decrease found.
+std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface,
+                                             const std::vector<Eigen::Vector3d>& x, const Eigen::Vector3d& p,
+                                             const Eigen::Vector2d& theta, const SurfaceJet& s,
+                                             const Eigen::Matrix2d& C, const Eigen::Vector2d& lo,
+                                             const Eigen::Vector2d& hi, double f0) {
+  Eigen::Matrix2d G;
+  G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(C, G);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] < -1e-8)) return std::nullopt;
+  Eigen::Vector2d e = eig.eigenvectors().col(0);  // g-normalised: |e^a g_a| = 1
+  auto blocked = [&](const Eigen::Vector2d& d) {
+    int n = 0;
+    for (int a = 0; a < 2; ++a) n += (theta[a] <= lo[a] && d[a] < 0) || (theta[a] >= hi[a] && d[a] > 0);
+    return n;
+  };
+  if (blocked(-e) < blocked(e)) e = -e;
+  const double distance = std::sqrt(2 * f0);
+  for (double length = distance; length > 1e-8 * distance; length *= 0.5) {
+    const Eigen::Vector2d next = (theta + length * e).cwiseMax(lo).cwiseMin(hi);
+    const spline::SurfaceBasis b = surface.basis(next[0], next[1]);
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    for (std::size_t a = 0; a < b.indices.size(); ++a) r += b.R(0, a) * x[b.indices[a]];
+    if (0.5 * (p - r).squaredNorm() < f0 * (1 - 1e-10)) return next;
+  }
+  return std::nullopt;
+}
 constexpr int kLeafSize = 4;
 
 }  // namespace
@@ -161,6 +197,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   Projection out;
   SurfaceJet s = evaluate(surface_, points_, theta[0], theta[1]);
   bool converged = false, outward = false;
+  int escapes = 0;
   for (int it = 0; it <= kMaxIterations; ++it) {
     const Eigen::Vector3d D = p - s.r;
     const Eigen::Vector2d h(D.dot(s.g1), D.dot(s.g2));
@@ -177,22 +214,44 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     const bool stationary = (active[0] || std::abs(h[0]) <= tol[0]) && (active[1] || std::abs(h[1]) <= tol[1]);
     out.iterations = it;
     if (stationary) {
-      converged = true;
       outward = active[0] || active[1];
+      const double metric_det = s.g1.squaredNorm() * s.g2.squaredNorm() - std::pow(s.g1.dot(s.g2), 2);
+      if (!outward && !(C.determinant() > 1e-10 * metric_det && C(0, 0) > 0) && escapes < kMaxEscapes) {
+        // A saddle or maximum of the distance, e.g. a beam point in the mirror plane above a groove whose
+        // curvature radius across the plane is below the distance: the gradient vanishes there, so Newton
+        // cannot leave it. Step along the direction of negative curvature of f (C_ab is its Hessian, Eq. C3).
+        const std::optional<Eigen::Vector2d> next = escape_saddle(surface_, points_, p, theta, s, C, lo, hi, f_of(p, s));
+        if (next) {
+          ++escapes;
+          theta = *next;
+          s = evaluate(surface_, points_, theta[0], theta[1]);
+          continue;
+        }
+      }
+      converged = true;
       out.where = outward ? Projection::Where::outside : Projection::Where::interior;
       // Degenerate (C_ab singular relative to the metric, e.g. the centre of a sphere): theta-hat is not a
       // differentiable function of the configuration there.
-      const double metric_det = s.g1.squaredNorm() * s.g2.squaredNorm() - std::pow(s.g1.dot(s.g2), 2);
       if (!outward && !(C.determinant() > 1e-10 * metric_det && C(0, 0) > 0))
         out.where = Projection::Where::failed;
       break;
     }
     if (it == kMaxIterations) break;
-    // Newton matrix C where it is positive definite, else the metric g_ab (a descent direction).
+    // Newton matrix C where it is positive definite. Else C with its eigenvalues (relative to the metric
+    // g_ab) replaced by their absolute values, floored: still a descent direction, but one that keeps
+    // Newton's rate along the directions of positive curvature, so the iterate quickly reaches the
+    // stationary point from which escape_saddle leaves along the negative one.
     Eigen::Matrix2d M = C;
     if (!(M.determinant() > 0 && M(0, 0) > 0)) {
-      M << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
-      M += 1e-14 * M.trace() * Eigen::Matrix2d::Identity();
+      Eigen::Matrix2d G;
+      G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
+      const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(C, G);
+      if (eig.info() == Eigen::Success) {
+        const Eigen::Matrix2d GE = G * eig.eigenvectors();  // C = G E Lambda E^T G with E^T G E = 1
+        M = GE * eig.eigenvalues().cwiseAbs().cwiseMax(1e-2).asDiagonal() * GE.transpose();
+      } else {
+        M = G + 1e-14 * G.trace() * Eigen::Matrix2d::Identity();
+      }
     }
     Eigen::Vector2d step = Eigen::Vector2d::Zero();
     if (active[0] && active[1]) {

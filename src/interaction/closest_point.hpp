@@ -14,8 +14,11 @@
 // outside the patch), the result is `outside`: point / distance / normal then describe the nearest point
 // ON the boundary, but it is NOT an orthogonal projection (n-hat is not the surface normal) and the SBS
 // kernel must not be applied (the lead skips such points: no interaction). A stationary point ON the
-// boundary (within round-off) is `interior`. `failed`: no convergence, or a degenerate stationary point
-// (det of the shifted metric C_ab (Eq. C3) <= 0, e.g. a point at the centre of a spherical patch).
+// boundary (within round-off) is `interior`. A stationary point where the distance is not a minimum
+// (C_ab of Eq. C3, the Hessian of |p - r|^2 / 2, has a negative eigenvalue: a point in a mirror plane above
+// a groove narrower than the distance) is left along the direction of negative curvature, and Newton goes
+// on to the minimum beside it. `failed`: no convergence, or a degenerate stationary point (C_ab singular
+// without negative curvature, e.g. a point at the centre of a spherical patch).
 #include <Eigen/Dense>
 #include <optional>
 #include <vector>

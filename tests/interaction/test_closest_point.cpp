@@ -109,6 +109,34 @@ TEST(ClosestPoint, CentreOfTheSphereIsDegenerate) {
   EXPECT_EQ(prox.project(Eigen::Vector3d::Zero()).where, Where::failed);
 }
 
+// A groove z = x^2 (kappa = 2) over x, y in [0, 1], its edge x = 0 a mirror plane, as under a fiber that
+// indents a symmetric shell. From p = (0, y, h) the distance along the mirror edge is stationary in x by
+// symmetry; it is a minimum for h < 1/kappa and a maximum for h > 1/kappa, where the closest point is
+// x^2 = h - 1/2 (f = x^2 + (h - x^2)^2). Quadratic in x, so the B-spline holds the parabola exactly.
+TEST(ClosestPoint, SaddleOnAMirrorEdgeMovesToTheGroovesMinimum) {
+  const spline::KnotVector ku = spline::KnotVector::open_uniform(2, 1, 1);
+  const spline::KnotVector kv = spline::KnotVector::open_uniform(1, 1, 0);
+  std::vector<Eigen::Vector3d> points;
+  for (int j = 0; j < 2; ++j)
+    for (const Eigen::Vector2d& xz : {Eigen::Vector2d(0, 0), Eigen::Vector2d(0.5, 0), Eigen::Vector2d(1, 1)})
+      points.emplace_back(xz[0], j, xz[1]);
+  const spline::NurbsSurface groove(ku, kv, points);
+  const ShellProximity prox(groove);
+  ASSERT_NEAR(groove.point(0.3, 0.4)[2], 0.09, 1e-15);
+  // Shallow point: the mirror edge itself.
+  expect_projects_to(prox, Eigen::Vector3d(0, 0.4, 0.3), 0.0, 0.4, 0.3);
+  // Deep points: the minimum beside the edge, from a cold start and from a warm start on the edge (the
+  // previous step's projection when the groove deepens).
+  for (double h : {0.55, 0.75, 1.0}) {
+    const double x = std::sqrt(h - 0.5), d = std::sqrt(x * x + 0.25);
+    expect_projects_to(prox, Eigen::Vector3d(0, 0.4, h), x, 0.4, d);
+    const auto warm = prox.project(Eigen::Vector3d(0, 0.4, h), Eigen::Vector2d(0.0, 0.4));
+    ASSERT_EQ(warm.where, Where::interior) << h;
+    EXPECT_NEAR(warm.u, x, kParamTol);
+    EXPECT_NEAR(warm.distance, d, 1e-12);
+  }
+}
+
 // Brute force: dense 200 x 200 sampling, then a pattern search (coordinate steps halved until 1e-12) that
 // shares nothing with the Newton iteration under test.
 Eigen::Vector3d brute_force(const spline::NurbsSurface& s, const Eigen::Vector3d& p) {
