@@ -1,4 +1,4 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet]`
+// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet] [--newton-log]`
 #include <iostream>
 #include <memory>
 
@@ -18,6 +18,7 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
   cmd->add_option("--threads", opt->run.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
+  cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
   cmd->callback([opt]() {
     // Reading the whole case first: bad input stops here, before any output file exists.
     model::Case c = model::read_case(opt->case_file);

@@ -42,21 +42,25 @@ constexpr int kMaxEscapes = 4;
 
 double f_of(const Eigen::Vector3d& p, const SurfaceJet& s) { return 0.5 * (p - s.r).squaredNorm(); }
 
-// From a stationary point theta of f = |p - r|^2 / 2 where the Hessian C_ab has a negative eigenvalue
-// (C e = lambda g e, lambda < 0), a step along +-e lowers f by ~ |lambda| s^2 / 2 for a surface step of
-// length s. The sign keeps the step inside the parameter box (a saddle on the mirror edge u = 0 escapes to
-// u > 0); the length starts at the distance |p - r| (the scale on which a groove's minimum lies) and is
-// halved until f falls clearly below f0. nullopt: no negative curvature, or no decrease found.
-std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface,
-                                             const std::vector<Eigen::Vector3d>& x, const Eigen::Vector3d& p,
-                                             const Eigen::Vector2d& theta, const SurfaceJet& s,
-                                             const Eigen::Matrix2d& C, const Eigen::Vector2d& lo,
-                                             const Eigen::Vector2d& hi, double f0) {
+// Eigenvalues of C_ab relative to the metric g_ab (C e = lambda g e, e g-normalised: |e^a g_a| = 1):
+// lambda = 1 - d kappa along the principal directions for a point at distance d on the side of curvature
+// kappa, so lambda <= 0 means the point sits at or beyond a centre of curvature.
+Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> relative_curvature(const SurfaceJet& s,
+                                                                            const Eigen::Matrix2d& C) {
   Eigen::Matrix2d G;
   G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(C, G);
-  if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] < -1e-8)) return std::nullopt;
-  Eigen::Vector2d e = eig.eigenvectors().col(0);  // g-normalised: |e^a g_a| = 1
+  return Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d>(C, G);
+}
+
+// From a stationary point theta of f = |p - r|^2 / 2 where the Hessian C_ab has the negative eigenvalue
+// lambda (eigenvector e), a step along +-e lowers f by ~ |lambda| s^2 / 2 for a surface step of length s.
+// The sign keeps the step inside the parameter box (a saddle on the mirror edge u = 0 escapes to u > 0);
+// the length starts at the distance |p - r| (the scale on which a groove's minimum lies) and is halved
+// until f falls measurably below f0. nullopt: no measurable decrease (the saddle is flat to round-off).
+std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface,
+                                             const std::vector<Eigen::Vector3d>& x, const Eigen::Vector3d& p,
+                                             const Eigen::Vector2d& theta, Eigen::Vector2d e,
+                                             const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double f0) {
   auto blocked = [&](const Eigen::Vector2d& d) {
     int n = 0;
     for (int a = 0; a < 2; ++a) n += (theta[a] <= lo[a] && d[a] < 0) || (theta[a] >= hi[a] && d[a] > 0);
@@ -73,6 +77,7 @@ std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface
   }
   return std::nullopt;
 }
+
 constexpr int kLeafSize = 4;
 
 }  // namespace
@@ -214,26 +219,34 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     const bool stationary = (active[0] || std::abs(h[0]) <= tol[0]) && (active[1] || std::abs(h[1]) <= tol[1]);
     out.iterations = it;
     if (stationary) {
-      outward = active[0] || active[1];
-      const double metric_det = s.g1.squaredNorm() * s.g2.squaredNorm() - std::pow(s.g1.dot(s.g2), 2);
-      if (!outward && !(C.determinant() > 1e-10 * metric_det && C(0, 0) > 0) && escapes < kMaxEscapes) {
-        // A saddle or maximum of the distance, e.g. a beam point in the mirror plane above a groove whose
-        // curvature radius across the plane is below the distance: the gradient vanishes there, so Newton
-        // cannot leave it. Step along the direction of negative curvature of f (C_ab is its Hessian, Eq. C3).
-        const std::optional<Eigen::Vector2d> next = escape_saddle(surface_, points_, p, theta, s, C, lo, hi, f_of(p, s));
-        if (next) {
-          ++escapes;
-          theta = *next;
-          s = evaluate(surface_, points_, theta[0], theta[1]);
-          continue;
-        }
-      }
       converged = true;
+      outward = active[0] || active[1];
       out.where = outward ? Projection::Where::outside : Projection::Where::interior;
-      // Degenerate (C_ab singular relative to the metric, e.g. the centre of a sphere): theta-hat is not a
-      // differentiable function of the configuration there.
-      if (!outward && !(C.determinant() > 1e-10 * metric_det && C(0, 0) > 0))
-        out.where = Projection::Where::failed;
+      if (!outward && !(C.determinant() > 0 && C(0, 0) > 0)) {
+        const auto eig = relative_curvature(s, C);
+        if (eig.info() != Eigen::Success) {
+          out.where = Projection::Where::failed;
+          break;
+        }
+        if (eig.eigenvalues()[0] < -1e-8 && escapes < kMaxEscapes) {
+          // A saddle or maximum of the distance, e.g. a beam point in a mirror plane above a groove whose
+          // curvature radius across the plane is below the distance: the gradient vanishes there, so Newton
+          // cannot leave it; step along the direction of negative curvature (C_ab is f's Hessian, Eq. C3).
+          const auto next = escape_saddle(surface_, points_, p, theta, eig.eigenvectors().col(0), lo, hi, f_of(p, s));
+          if (next) {
+            ++escapes;
+            converged = false;
+            theta = *next;
+            s = evaluate(surface_, points_, theta[0], theta[1]);
+            continue;
+          }
+        }
+        // No measurable descent: a minimum to round-off, at a centre of curvature in one direction (e.g. a
+        // groove on a mirror edge with radius = distance, where symmetry pins the projection in that
+        // direction). Kept: the distance and normal are right. Flat in BOTH directions (the centre of a
+        // sphere) theta-hat is arbitrary: failed.
+        if (eig.eigenvalues()[1] <= 1e-8) out.where = Projection::Where::failed;
+      }
       break;
     }
     if (it == kMaxIterations) break;

@@ -47,12 +47,14 @@ RunSummary run_case(Case& c, const RunOptions& options) {
     out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
     return summary;
   }
+  solve::NewtonOptions newton = c.run.newton;
+  newton.verbose = options.newton_log;
   double peak = 0.0;
   if (!c.run.stop_column.empty()) peak = std::abs(out.last_value(c.run.stop_column));
   bool stopped_by_condition = false;
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
   summary.result = solve::run_continuation(
-      m, q, c.run.steps, c.run.newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+      m, q, c.run.steps, newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
         out.write_history(m, r);
         bool stop = false;
         if (!c.run.stop_column.empty()) {

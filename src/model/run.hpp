@@ -11,6 +11,7 @@ struct RunOptions {
   std::string output_directory;  // overrides the case's output.directory when non-empty
   int threads = 0;               // OpenMP threads; 0 keeps the default
   bool quiet = false;            // no progress line
+  bool newton_log = false;       // one line per Newton iteration (t, iteration, |r|) on stderr
 };
 
 struct RunSummary {

@@ -125,6 +125,12 @@ TEST(ClosestPoint, SaddleOnAMirrorEdgeMovesToTheGroovesMinimum) {
   ASSERT_NEAR(groove.point(0.3, 0.4)[2], 0.09, 1e-15);
   // Shallow point: the mirror edge itself.
   expect_projects_to(prox, Eigen::Vector3d(0, 0.4, 0.3), 0.0, 0.4, 0.3);
+  // At the centre of curvature (h = 1/kappa): f = 1/4 + x^4, a minimum flat to fourth order. Kept (interior),
+  // not dropped: u to the quartic's accuracy (h_1 = 4 x^3 <= 1e-13 -> x ~ 5e-5), distance to round-off.
+  const auto flat = prox.project(Eigen::Vector3d(0, 0.4, 0.5), Eigen::Vector2d(0.0, 0.4));
+  ASSERT_EQ(flat.where, Where::interior);
+  EXPECT_NEAR(flat.u, 0.0, 1e-4);
+  EXPECT_NEAR(flat.distance, 0.5, 1e-12);
   // Deep points: the minimum beside the edge, from a cold start and from a warm start on the edge (the
   // previous step's projection when the groove deepens).
   for (double h : {0.55, 0.75, 1.0}) {
