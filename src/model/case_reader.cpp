@@ -174,6 +174,11 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);
   run.newton.tol_absolute = node->get("tolerance_absolute", run.newton.tol_absolute);
   run.newton.tol_increment = node->get("tolerance_increment", run.newton.tol_increment);
+  if (node->has("line_search")) {
+    run.newton.line_search = (*node)["line_search"].as_int();
+    if (run.newton.line_search < 0 || run.newton.line_search > 30)
+      (*node)["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
+  }
   run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();

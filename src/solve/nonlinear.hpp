@@ -34,6 +34,9 @@ struct NewtonOptions {
   // the residual has then reached its round-off floor (fine meshes, stiff parts next to weak interaction
   // forces), where a purely relative residual test can never be met. 0 disables it.
   double tol_increment = 1e-10;
+  // Backtracking: an update after which |r| rose is halved, at most this many times per update, before
+  // Newton goes on from there (0: plain Newton). Each halving costs one evaluation with tangent.
+  int line_search = 0;
   bool verbose = false;               // one line per iteration on stderr
   double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
 };
@@ -41,6 +44,7 @@ struct NewtonOptions {
 struct NewtonReport {
   bool converged = false;
   int iterations = 0;          // number of linear solves (updates of q)
+  int backtracks = 0;          // halvings of updates by the line search
   double residual_norm = 0;    // at the last evaluation
   std::vector<double> history; // ||r|| at every evaluation, the first before any update
   std::string failure;         // empty when converged

@@ -196,5 +196,47 @@ TEST(Newton, StopsAtAWanderingRoundOffFloor) {
   EXPECT_LT((q - sys.exact()).norm(), 1e-5);
 }
 
+// r(q) = atan(q - 1): from q0 with |q0 - 1| > 1.39 Newton's updates overshoot more each time and diverge
+// (the classic example); halving an update whenever |r| rose makes it converge (to q = 1) from anywhere.
+class ArctanSystem final : public NonlinearSystem {
+ public:
+  ArctanSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = 1; }
+  int size() const override { return 1; }
+  void evaluate(const Eigen::VectorXd& q, double, bool) override {
+    r_[0] = std::atan(q[0] - 1.0);
+    k_.coeffRef(0, 0) = 1.0 / (1.0 + (q[0] - 1.0) * (q[0] - 1.0));
+    ++evaluations;
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 1; }
+  int evaluations = 0;
+
+ private:
+  Eigen::SparseMatrix<double> k_;
+  Eigen::VectorXd r_;
+};
+
+TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
+  NewtonOptions opt;
+  opt.tol_relative = 0;
+  opt.tol_absolute = 1e-12;
+  opt.max_iterations = 40;
+  auto solver = make_linear_solver("auto", true);
+  ArctanSystem plain;
+  Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 4.0);
+  const NewtonReport diverged = newton_solve(plain, q, 1.0, opt, *solver);
+  EXPECT_FALSE(diverged.converged) << q[0] << " after " << diverged.iterations << " " << ::testing::PrintToString(diverged.history);
+  opt.line_search = 10;
+  ArctanSystem damped;
+  q.setConstant(4.0);
+  const NewtonReport rep = newton_solve(damped, q, 1.0, opt, *solver);
+  ASSERT_TRUE(rep.converged) << rep.failure;
+  EXPECT_NEAR(q[0], 1.0, 1e-12);
+  EXPECT_GT(rep.backtracks, 0);
+  // every evaluation is either an iterate or a halving
+  EXPECT_EQ(damped.evaluations, rep.iterations + rep.backtracks + 1);
+}
+
 }  // namespace
 }  // namespace fibrane::solve
