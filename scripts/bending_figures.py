@@ -86,12 +86,23 @@ def run_variant(name, edits, results, fibrane, quick):
 read_csv = fibrane_runs.read_csv
 
 
+# RF2 equilibrium distance (examples/bending.yaml's z0): the law attracts beyond it and repels inside it.
+D_EQUILIBRIUM = 0.78216128295028686
+HALF_LENGTH = 4.0  # the modelled half beam; the paper's xi runs over the whole beam (length 8) from an end
+INSTANTS = (0.25, 0.5, 0.75, 1.0)
+
+
+def normal_force(points):
+    """Interaction force per length on the beam, signed: + repulsive, - attractive (RF2: along the normal)."""
+    return np.where(points["distance"] < D_EQUILIBRIUM, 1.0, -1.0) * points["force_magnitude"]
+
+
 def end_force(directory, steps):
-    """Interaction force (z, per length) at the Gauss point nearest the beam end, per step."""
+    """Signed interaction force per length at the Gauss point nearest the beam end, per step."""
     out = []
     for k in steps:
         f = directory / "interaction" / f"adhesion_{int(k):06d}.csv"
-        out.append(read_csv(f)["force_z"][-1] if f.exists() else np.nan)
+        out.append(normal_force(read_csv(f))[-1] if f.exists() else np.nan)
     return np.array(out)
 
 
@@ -99,22 +110,29 @@ def save(fig, path):
     fibrane_runs.save(fig, path, dpi=130)
 
 
-def plot_end_distributions(curves, near, path):
-    """Interaction force f_z near the beam end: panel a) up to `near` in xi, panel b) up to 0.025, clipped.
-    curves: (interaction CSV columns, label) pairs."""
+def plot_end_distributions(curves, near, path, clip):
+    """Signed interaction force near the beam end over the paper's xi (whole beam from the end): panel a) up to
+    `near`, panel b) up to 0.025 with the peaks clipped at +-clip. curves: (interaction CSV columns, label)."""
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     for p, label in curves:
-        xi = 1.0 - p["xi"]  # the paper's xi = 0 is the beam end; ours runs from the mirror end
+        xi = (HALF_LENGTH - p["s"]) / (2 * HALF_LENGTH)
         for a, lim in zip(ax, (near, 0.025)):
             sel = xi <= lim
-            a.plot(xi[sel], p["force_z"][sel], ".-", label=label)
-    ax[0].set(xlabel="distance from the end in xi", ylabel="f_z", title=f"a) xi in (0, {near:g})")
-    ax[1].set(xlabel="distance from the end in xi", ylabel="f_z", title="b) xi in (0, 0.025), clipped")
-    ax[1].set_ylim(-5, 5)
+            a.plot(xi[sel], normal_force(p)[sel], ".-", label=label)
+    ax[0].set(xlabel="xi (whole beam, from the end)", ylabel="interaction force per length (+ repulsive)",
+              title=f"a) xi in (0, {near:g})")
+    ax[1].set(xlabel="xi (whole beam, from the end)", ylabel="interaction force per length (+ repulsive)",
+              title="b) xi in (0, 0.025), clipped")
+    ax[1].set_ylim(-clip, clip)
     for a in ax:
         a.grid(alpha=0.3)
         a.legend()
     save(fig, path)
+
+
+def at_instants(t, values):
+    """values at the steps nearest to INSTANTS (nan where the run did not get there)."""
+    return [values[np.argmin(np.abs(t - ti))] if t[-1] >= ti - 1e-9 else np.nan for ti in INSTANTS]
 
 
 def figures(results, figdir, quick):
@@ -129,29 +147,33 @@ def figures(results, figdir, quick):
         ax[0].plot(h["t"], h["end_uz"], label=m)
         f = end_force(d, h["step"])
         ax[1].plot(h["t"], f, label=m)
-        table.append((m, h["t"][-1], h["end_uz"][-1], f[-1], len(h["t"]) - 1))
+        table.append((m, at_instants(h["t"], h["end_uz"]), at_instants(h["t"], f), len(h["t"]) - 1,
+                      int(h["iterations"].sum())))
     ax[0].set(xlabel="t", ylabel="u_z at the beam end", title="a) displacement at the beam end")
-    ax[1].set(xlabel="t", ylabel="interaction force f_z at the last Gauss point", title="b) interaction force")
+    ax[1].set(xlabel="t", ylabel="interaction force per length at the last Gauss point (+ repulsive)",
+              title="b) interaction force at the beam end")
     for a in ax:
         a.grid(alpha=0.3)
         a.legend()
     save(fig, figdir / "bending_fig23_meshes.png")
-    print("| mesh | t reached | u_z(end) | f_z(end) | steps |\n|---|---|---|---|---|")
-    for row in table:
-        print(f"| {row[0]} | {row[1]:.4f} | {row[2]:.5g} | {row[3]:.5g} | {row[4]} |")
+    head = " | ".join(f"u_z(end), t = {t:g}" for t in INSTANTS) + " | " + " | ".join(f"f(end), t = {t:g}" for t in INSTANTS)
+    print(f"| mesh | {head} | steps | Newton iterations |\n|---|" + "---|" * (2 * len(INSTANTS) + 2))
+    for m, u, f, steps, its in table:
+        cells = " | ".join(f"{v:.5f}" for v in u) + " | " + " | ".join(f"{v:.1f}" for v in f)
+        print(f"| {m} | {cells} | {steps} | {its} |")
 
     if not done:
         return
     finest = list(done.values())[-1]
     h = read_csv(finest / "history.csv")
-    # Fig. 24: force distribution near the end (s measured from the beam end) at five instants.
+    # Fig. 24: force distribution near the end at five instants.
     curves = []
     for target in (0.2, 0.4, 0.6, 0.828, 1.0):
         k = int(h["step"][np.argmin(np.abs(h["t"] - target))])
         f = finest / "interaction" / f"adhesion_{k:06d}.csv"
         if f.exists():
             curves.append((read_csv(f), f"t = {h['t'][k]:.3f}"))
-    plot_end_distributions(curves, 0.005, figdir / "bending_fig24_force_distribution.png")
+    plot_end_distributions(curves, 0.005, figdir / "bending_fig24_force_distribution.png", clip=300)
     shell_section_forces(finest, figdir)
     # Fig. 26: three strengths at the final state.
     strength_mesh = f"mesh_{meshes[2]}"
@@ -161,7 +183,7 @@ def figures(results, figdir, quick):
         if (d / "history.csv").exists():
             last = int(read_csv(d / "history.csv")["step"][-1])
             curves.append((read_csv(d / "interaction" / f"adhesion_{last:06d}.csv"), f"{s} s_ref"))
-    plot_end_distributions(curves, 0.002, figdir / "bending_fig26_strengths.png")
+    plot_end_distributions(curves, 0.002, figdir / "bending_fig26_strengths.png", clip=600)
 
 
 def shell_section_forces(directory, figdir):
