@@ -129,8 +129,39 @@ std::vector<std::string> history_columns(const Model& m) {
   return columns;
 }
 
+namespace {
+
+// A run into a directory that holds an earlier run's output removes that run's per-step files and summary
+// first: otherwise a longer earlier run leaves steps beyond this run's end beside it (ParaView would not
+// show them, but a script reading the folder would), and an interrupted run would keep a summary saying
+// "completed". Only names this case writes (<name>_<6 digits>.vtu / .csv) are touched.
+void remove_earlier_run(const std::filesystem::path& dir, const Case& c) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> names;
+  for (const auto& s : c.model->shells) names.push_back(s.name);
+  for (const auto& b : c.model->beams) names.push_back(b.name);
+  for (const auto& k : c.model->couplings) names.push_back(k.name());
+  auto is_step_file = [&](const fs::path& f, const std::string& ext) {
+    const std::string stem = f.stem().string();
+    if (f.extension() != ext || stem.size() < 8 || stem[stem.size() - 7] != '_') return false;
+    const std::string digits = stem.substr(stem.size() - 6);
+    if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
+    return std::find(names.begin(), names.end(), stem.substr(0, stem.size() - 7)) != names.end();
+  };
+  std::error_code ec;
+  fs::remove(dir / "summary.json", ec);
+  for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
+    if (!fs::is_directory(dir / sub)) continue;
+    for (const auto& entry : fs::directory_iterator(dir / sub))
+      if (entry.is_regular_file() && is_step_file(entry.path(), ext)) fs::remove(entry.path(), ec);
+  }
+}
+
+}  // namespace
+
 RunOutput::RunOutput(const Case& c, std::string directory) : case_(c), dir_(std::move(directory)) {
   namespace fs = std::filesystem;
+  remove_earlier_run(dir_, c);
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
   columns_ = history_columns(*c.model);

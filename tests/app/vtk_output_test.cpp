@@ -39,6 +39,21 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
     EXPECT_NE(line.find("displacement N_local M_local"), std::string::npos) << line;
   }
   EXPECT_EQ(datasets, 21) << read.output;
+
+  // A shorter run into the same directory leaves none of the first run's steps behind (and keeps files
+  // that are not a run's step files).
+  std::ofstream(out / "vtk" / "notes.txt") << "mine";
+  const auto shorter = out.parent_path() / "fibrane-vtk-rollup-short.yaml";
+  std::string text = slurp(example);
+  const std::string from = "t_end: 1.0";
+  ASSERT_NE(text.find(from), std::string::npos);
+  std::ofstream(shorter) << text.replace(text.find(from), from.size(), "t_end: 0.25");
+  const auto rerun = run_cli("run '" + shorter.string() + "' -q -o '" + out.string() + "'");
+  ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  int vtu = 0;
+  for (const auto& f : std::filesystem::directory_iterator(out / "vtk")) vtu += f.path().extension() == ".vtu";
+  EXPECT_EQ(vtu, 6);  // the initial state and 5 steps of 0.05
+  EXPECT_TRUE(std::filesystem::exists(out / "vtk" / "notes.txt"));
 }
 
 }  // namespace
