@@ -62,6 +62,12 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       return rep;
     }
     const Eigen::SparseMatrix<double>& k = sys.tangent();
+    // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's derivative
+    // is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
+    if (!Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite()) {
+      rep.failure = "non-finite tangent at iteration " + std::to_string(it);
+      return rep;
+    }
     solver.analyze_if_needed(k, sys.pattern_version());
     if (!solver.factorize(k)) {
       rep.failure = "factorization failed (" + solver.name() + ") at iteration " + std::to_string(it);

@@ -238,5 +238,29 @@ TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
   EXPECT_EQ(damped.evaluations, rep.iterations + rep.backtracks + 1);
 }
 
+// A finite residual with a NaN in the tangent: reported before any factorisation is tried.
+class NanTangentSystem final : public NonlinearSystem {
+ public:
+  NanTangentSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = std::nan(""); }
+  int size() const override { return 1; }
+  void evaluate(const Eigen::VectorXd& q, double, bool) override { r_[0] = q[0] - 1.0; }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 1; }
+
+ private:
+  Eigen::SparseMatrix<double> k_;
+  Eigen::VectorXd r_;
+};
+
+TEST(Newton, NonFiniteTangentIsReportedBeforeFactorising) {
+  NanTangentSystem sys;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  const NewtonReport rep = newton_solve(sys, q, 1.0, NewtonOptions{}, *solver);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(rep.failure, "non-finite tangent at iteration 0");
+}
+
 }  // namespace
 }  // namespace fibrane::solve
