@@ -238,6 +238,36 @@ TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
   EXPECT_EQ(damped.evaluations, rep.iterations + rep.backtracks + 1);
 }
 
+// r(q) = q^3 - 2 q + 2 from q = 0: Newton goes 0 -> 1 -> 0 -> ... for ever (the classic two-cycle).
+class TwoCycleSystem final : public NonlinearSystem {
+ public:
+  TwoCycleSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = 1; }
+  int size() const override { return 1; }
+  void evaluate(const Eigen::VectorXd& q, double, bool) override {
+    r_[0] = q[0] * q[0] * q[0] - 2 * q[0] + 2;
+    k_.coeffRef(0, 0) = 3 * q[0] * q[0] - 2;
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 1; }
+
+ private:
+  Eigen::SparseMatrix<double> k_;
+  Eigen::VectorXd r_;
+};
+
+TEST(Newton, StopsEarlyWhenTheIterationCycles) {
+  TwoCycleSystem sys;
+  auto solver = make_linear_solver("umfpack", false);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  NewtonOptions opt;
+  opt.max_iterations = 40;
+  const NewtonReport rep = newton_solve(sys, q, 1.0, opt, *solver);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_NE(rep.failure.find("cycling"), std::string::npos) << rep.failure;
+  EXPECT_EQ(rep.iterations, 4);  // |r| = 2, 1, 2, 1, 2: the cycle is certain at the fifth residual
+}
+
 // A finite residual with a NaN in the tangent: reported before any factorisation is tried.
 class NanTangentSystem final : public NonlinearSystem {
  public:
