@@ -56,7 +56,8 @@ Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> relative_curvature(con
 // lambda (eigenvector e), a step along +-e lowers f by ~ |lambda| s^2 / 2 for a surface step of length s.
 // The sign keeps the step inside the parameter box (a saddle on the mirror edge u = 0 escapes to u > 0);
 // the length starts at the distance |p - r| (the scale on which a groove's minimum lies) and is halved
-// until f falls measurably below f0. nullopt: no measurable decrease (the saddle is flat to round-off).
+// until f falls below f0 (any decrease: a threshold would make the choice between the saddle and the
+// minimum beside it depend on the warm start). nullopt: no decrease (the saddle is flat to round-off).
 std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface,
                                              const std::vector<Eigen::Vector3d>& x, const Eigen::Vector3d& p,
                                              const Eigen::Vector2d& theta, Eigen::Vector2d e,
@@ -73,7 +74,7 @@ std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface
     const spline::SurfaceBasis b = surface.basis(next[0], next[1]);
     Eigen::Vector3d r = Eigen::Vector3d::Zero();
     for (std::size_t a = 0; a < b.indices.size(); ++a) r += b.R(0, a) * x[b.indices[a]];
-    if (0.5 * (p - r).squaredNorm() < f0 * (1 - 1e-10)) return next;
+    if (0.5 * (p - r).squaredNorm() < f0) return next;
   }
   return std::nullopt;
 }
@@ -310,17 +311,18 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
 }
 
 ShellProximity::Projection ShellProximity::project(const Eigen::Vector3d& p,
-                                                   const std::optional<Eigen::Vector2d>& start) const {
+                                                   const std::optional<Eigen::Vector2d>& start,
+                                                   double keep_margin) const {
   if (start) {
     Projection warm = newton(p, *start);
     if (warm.where == Projection::Where::failed) return project(p);
     // Any element that might hold a clearly closer point? (Box bound, then samples.)
-    const double bound = warm.distance * warm.distance * (1.0 - 1e-8);
-    const std::optional<Candidate> other = global_candidate(p, bound);
+    const double closer = warm.distance * (1.0 - std::max(keep_margin, 1e-8));
+    const std::optional<Candidate> other = global_candidate(p, closer * closer);
     if (!other) return warm;
     Projection cold = newton(p, other->theta);
     cold.iterations += warm.iterations;
-    return (cold.where != Projection::Where::failed && cold.distance < warm.distance) ? cold : warm;
+    return (cold.where != Projection::Where::failed && cold.distance < closer) ? cold : warm;
   }
   const std::optional<Candidate> best = global_candidate(p, std::numeric_limits<double>::infinity());
   if (!best) return Projection{};

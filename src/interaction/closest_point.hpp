@@ -45,9 +45,12 @@ class ShellProximity {
   };
 
   // Global search then Newton; with `start` (e.g. the previous iteration's theta-hat) Newton starts there
-  // and the global search only checks that no other element holds a closer point.
-  Projection project(const Eigen::Vector3d& p,
-                     const std::optional<Eigen::Vector2d>& start = std::nullopt) const;
+  // and the global search only checks that no other element holds a closer point: closer by more than the
+  // fraction `keep_margin` of the distance (0: any closer point wins). A margin keeps a point on the
+  // branch it is on where two local minima are nearly equally close (a shell folded under a fiber's end),
+  // instead of switching at every Newton iterate.
+  Projection project(const Eigen::Vector3d& p, const std::optional<Eigen::Vector2d>& start = std::nullopt,
+                     double keep_margin = 0.0) const;
 
   // The element (index into elements()) whose closed parameter box holds (u, v); the knot-span rule of
   // KnotVector::find_span decides on shared edges.

@@ -25,6 +25,11 @@ double arc_length(const spline::NurbsCurve& c, double xi0, double xi) {
   return s;
 }
 
+// Where two local minima of the distance are within this fraction of each other, a beam point stays on
+// its branch (ShellProximity::project): switching at every Newton iterate made Newton cycle at the
+// bending example's folded shell under the fiber's end.
+constexpr double kBranchMargin = 1e-3;
+
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
   for (int cp = 0; cp < s.num_control_points(); ++cp)
@@ -67,7 +72,9 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     const auto q = b.current(b.elements[qp.element].control_points, u, dofs);
     const auto basis = b.curve.basis(qp.xi, 0);
     const Eigen::Vector3d r = q.topRows<3>() * basis.R.row(0).transpose();
-    projection_[i] = proximity_.project(r, warm_[i]);
+    // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
+    // exists. After a failed attempt reject() has reset it to the last converged step.
+    projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
     const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;

@@ -49,8 +49,11 @@ class Coupling {
   // the interaction energy; sets `invalid` when a point's state lies outside the law's domain.
   double assemble(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs,
                   solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid);
-  // After a converged step: warm starts for the next projections.
+  // After a converged step: its projections are the ones a failed attempt returns to. Every evaluation
+  // starts from the previous evaluation's projections (the branch each point is on).
   void accept() { warm_ = last_; }
+  // After a failed attempt (the step is cut back): back to the last converged step's projections.
+  void reject() { last_ = warm_; }
 
   const std::vector<CouplingPoint>& points() const { return points_; }
   double energy() const { return energy_; }

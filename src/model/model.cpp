@@ -178,6 +178,10 @@ void Model::assemble_edge_moment(const EdgeMoment& em, int first_element, bool w
   }
 }
 
+void Model::reject() {
+  for (auto& c : couplings) c.reject();
+}
+
 void Model::accept(const Eigen::VectorXd& q, double t) {
   u_ = constraints.expand(q, t, curve_eval());
   for (auto& b : beams) b.accept(u_, dofs);

@@ -88,6 +88,7 @@ class Model : public solve::NonlinearSystem {
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
   int pattern_version() const override { return assembler_.pattern_version(); }
   void accept(const Eigen::VectorXd& q, double t) override;
+  void reject() override;
   double residual_scale() const override { return load_scale_; }
   bool symmetric() const override;
 

@@ -45,6 +45,7 @@ ContinuationResult run_continuation(NonlinearSystem& sys, Eigen::VectorXd& q, co
       if (opt.verbose)
         std::fprintf(stderr, "step at t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try,
                      newton.failure.c_str());
+      sys.reject();
       ++cutbacks;
       dt_try *= sc.cutback;
       if (dt_try < sc.dt_min) {

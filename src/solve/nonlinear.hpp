@@ -22,6 +22,7 @@ class NonlinearSystem {
   virtual int pattern_version() const = 0;                         // solver re-analyses when it changes
   virtual bool symmetric() const { return true; }
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
+  virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
 };
 
