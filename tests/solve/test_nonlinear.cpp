@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 
 #include "solve/nonlinear.hpp"
 #include "spring_network.hpp"
@@ -196,15 +197,17 @@ TEST(Newton, StopsAtAWanderingRoundOffFloor) {
   EXPECT_LT((q - sys.exact()).norm(), 1e-5);
 }
 
-// r(q) = atan(q - 1): from q0 with |q0 - 1| > 1.39 Newton's updates overshoot more each time and diverge
-// (the classic example); halving an update whenever |r| rose makes it converge (to q = 1) from anywhere.
-class ArctanSystem final : public NonlinearSystem {
+// One unknown: r(q) and k(q) = dr/dq given as functions; counts its evaluations.
+class ScalarSystem final : public NonlinearSystem {
  public:
-  ArctanSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = 1; }
+  ScalarSystem(std::function<double(double)> r, std::function<double(double)> k)
+      : r_of_(std::move(r)), k_of_(std::move(k)), k_(1, 1), r_(1) {
+    k_.insert(0, 0) = 1;
+  }
   int size() const override { return 1; }
   void evaluate(const Eigen::VectorXd& q, double, bool) override {
-    r_[0] = std::atan(q[0] - 1.0);
-    k_.coeffRef(0, 0) = 1.0 / (1.0 + (q[0] - 1.0) * (q[0] - 1.0));
+    r_[0] = r_of_(q[0]);
+    k_.coeffRef(0, 0) = k_of_(q[0]);
     ++evaluations;
   }
   const Eigen::VectorXd& residual() const override { return r_; }
@@ -213,9 +216,17 @@ class ArctanSystem final : public NonlinearSystem {
   int evaluations = 0;
 
  private:
+  std::function<double(double)> r_of_, k_of_;
   Eigen::SparseMatrix<double> k_;
   Eigen::VectorXd r_;
 };
+
+// r(q) = atan(q - 1): from q0 with |q0 - 1| > 1.39 Newton's updates overshoot more each time and diverge
+// (the classic example); halving an update whenever |r| rose makes it converge (to q = 1) from anywhere.
+ScalarSystem arctan_system() {
+  return ScalarSystem([](double q) { return std::atan(q - 1.0); },
+                      [](double q) { return 1.0 / (1.0 + (q - 1.0) * (q - 1.0)); });
+}
 
 TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
   NewtonOptions opt;
@@ -223,12 +234,12 @@ TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
   opt.tol_absolute = 1e-12;
   opt.max_iterations = 40;
   auto solver = make_linear_solver("auto", true);
-  ArctanSystem plain;
+  ScalarSystem plain = arctan_system();
   Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 4.0);
   const NewtonReport diverged = newton_solve(plain, q, 1.0, opt, *solver);
   EXPECT_FALSE(diverged.converged) << q[0] << " after " << diverged.iterations << " " << ::testing::PrintToString(diverged.history);
   opt.line_search = 10;
-  ArctanSystem damped;
+  ScalarSystem damped = arctan_system();
   q.setConstant(4.0);
   const NewtonReport rep = newton_solve(damped, q, 1.0, opt, *solver);
   ASSERT_TRUE(rep.converged) << rep.failure;
@@ -239,25 +250,8 @@ TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
 }
 
 // r(q) = q^3 - 2 q + 2 from q = 0: Newton goes 0 -> 1 -> 0 -> ... for ever (the classic two-cycle).
-class TwoCycleSystem final : public NonlinearSystem {
- public:
-  TwoCycleSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = 1; }
-  int size() const override { return 1; }
-  void evaluate(const Eigen::VectorXd& q, double, bool) override {
-    r_[0] = q[0] * q[0] * q[0] - 2 * q[0] + 2;
-    k_.coeffRef(0, 0) = 3 * q[0] * q[0] - 2;
-  }
-  const Eigen::VectorXd& residual() const override { return r_; }
-  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
-  int pattern_version() const override { return 1; }
-
- private:
-  Eigen::SparseMatrix<double> k_;
-  Eigen::VectorXd r_;
-};
-
 TEST(Newton, StopsEarlyWhenTheIterationCycles) {
-  TwoCycleSystem sys;
+  ScalarSystem sys([](double q) { return q * q * q - 2 * q + 2; }, [](double q) { return 3 * q * q - 2; });
   auto solver = make_linear_solver("umfpack", false);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
   NewtonOptions opt;
@@ -269,22 +263,8 @@ TEST(Newton, StopsEarlyWhenTheIterationCycles) {
 }
 
 // A finite residual with a NaN in the tangent: reported before any factorisation is tried.
-class NanTangentSystem final : public NonlinearSystem {
- public:
-  NanTangentSystem() : k_(1, 1), r_(1) { k_.insert(0, 0) = std::nan(""); }
-  int size() const override { return 1; }
-  void evaluate(const Eigen::VectorXd& q, double, bool) override { r_[0] = q[0] - 1.0; }
-  const Eigen::VectorXd& residual() const override { return r_; }
-  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
-  int pattern_version() const override { return 1; }
-
- private:
-  Eigen::SparseMatrix<double> k_;
-  Eigen::VectorXd r_;
-};
-
 TEST(Newton, NonFiniteTangentIsReportedBeforeFactorising) {
-  NanTangentSystem sys;
+  ScalarSystem sys([](double q) { return q - 1.0; }, [](double) { return std::nan(""); });
   auto solver = make_linear_solver("auto", true);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
   const NewtonReport rep = newton_solve(sys, q, 1.0, NewtonOptions{}, *solver);
