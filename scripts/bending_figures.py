@@ -23,18 +23,18 @@ import fibrane_runs  # noqa: E402
 ROOT = fibrane_runs.ROOT
 EXAMPLE = ROOT / "examples" / "bending.yaml"
 BASE_MESH = ("elements: 400", "elements: [100, 100]")  # beam, shell (u, v) as written in the example
-MESHES = {"100x25x25": (100, 25), "200x50x50": (200, 50), "300x75x75": (300, 75), "400x100x100": (400, 100)}
+MESHES = {"40x10x10": (40, 10), "100x25x25": (100, 25), "200x50x50": (200, 50), "400x100x100": (400, 100)}
 QUICK_MESHES = {"20x5x5": (20, 5), "40x10x10": (40, 10), "60x15x15": (60, 15), "80x20x20": (80, 20)}
 STRENGTHS = ("0.5", "1", "2")
 
 
 def variants(quick):
-    """name -> list of (old text, new text) edits; strengths are run on the second-finest mesh."""
+    """name -> list of (old text, new text) edits; strengths are run on the second mesh (100x25x25: three paper-mesh runs do not fit a session)."""
     meshes = QUICK_MESHES if quick else MESHES
     v = {}
     for name, (beam, shell) in meshes.items():
         v[f"mesh_{name}"] = [(BASE_MESH[0], f"elements: {beam}"), (BASE_MESH[1], f"elements: [{shell}, {shell}]")]
-    strength_mesh = v[f"mesh_{list(meshes)[2]}"]
+    strength_mesh = v[f"mesh_{list(meshes)[1]}"]
     for s in STRENGTHS:
         if s != "1":
             v[f"strength_{s}"] = strength_mesh + [("strength: STRENGTH", None, s)]
@@ -75,6 +75,15 @@ def run_dir(results, name, quick):
     return results / name
 
 
+def result_dir(results, name, quick):
+    """Where the figures read a variant: the paper-mesh run in results/bending-paper/ even when it stopped
+    early (its curves then end where it stopped), else the variant's own folder."""
+    paper = ROOT / "results" / "bending-paper"
+    if not quick and name == "mesh_400x100x100" and (paper / "history.csv").exists():
+        return paper
+    return results / name
+
+
 def run_variant(name, edits, results, fibrane, quick):
     out = run_dir(results, name, quick)
     if is_finished(out):
@@ -89,7 +98,7 @@ read_csv = fibrane_runs.read_csv
 # RF2 equilibrium distance (examples/bending.yaml's z0): the law attracts beyond it and repels inside it.
 D_EQUILIBRIUM = 0.78216128295028686
 HALF_LENGTH = 4.0  # the modelled half beam; the paper's xi runs over the whole beam (length 8) from an end
-INSTANTS = (0.25, 0.5, 0.75, 1.0)
+INSTANTS = (0.25, 0.5, 0.75, 0.87, 1.0)
 
 
 def normal_force(points):
@@ -131,22 +140,23 @@ def plot_end_distributions(curves, near, path, clip):
 
 
 def at_instants(t, values):
-    """values at the steps nearest to INSTANTS (nan where the run did not get there)."""
-    return [values[np.argmin(np.abs(t - ti))] if t[-1] >= ti - 1e-9 else np.nan for ti in INSTANTS]
+    """values interpolated linearly between steps at INSTANTS (nan where the run did not get there)."""
+    return [float(np.interp(ti, t, values)) if t[-1] >= ti - 1e-9 else np.nan for ti in INSTANTS]
 
 
 def figures(results, figdir, quick):
     meshes = list(QUICK_MESHES if quick else MESHES)
-    done = {m: run_dir(results, f"mesh_{m}", quick) for m in meshes}
+    done = {m: result_dir(results, f"mesh_{m}", quick) for m in meshes}
     done = {m: d for m, d in done.items() if (d / "history.csv").exists()}
     table = []
     # Fig. 23: u_z and interaction force at the beam end vs t, four meshes.
     fig, ax = plt.subplots(1, 2, figsize=(11, 4))
     for m, d in done.items():
         h = read_csv(d / "history.csv")
-        ax[0].plot(h["t"], h["end_uz"], label=m)
+        label = m if h["t"][-1] >= 1 - 1e-9 else f"{m} (stopped at t = {h['t'][-1]:.4f})"
+        ax[0].plot(h["t"], h["end_uz"], label=label)
         f = end_force(d, h["step"])
-        ax[1].plot(h["t"], f, label=m)
+        ax[1].plot(h["t"], f, label=label)
         table.append((m, at_instants(h["t"], h["end_uz"]), at_instants(h["t"], f), len(h["t"]) - 1,
                       int(h["iterations"].sum())))
     ax[0].set(xlabel="t", ylabel="u_z at the beam end", title="a) displacement at the beam end")
@@ -176,10 +186,10 @@ def figures(results, figdir, quick):
     plot_end_distributions(curves, 0.005, figdir / "bending_fig24_force_distribution.png", clip=300)
     shell_section_forces(finest, figdir)
     # Fig. 26: three strengths at the final state.
-    strength_mesh = f"mesh_{meshes[2]}"
+    strength_mesh = f"mesh_{meshes[1]}"
     curves = []
     for s in STRENGTHS:
-        d = run_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick)
+        d = result_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick)
         if (d / "history.csv").exists():
             last = int(read_csv(d / "history.csv")["step"][-1])
             curves.append((read_csv(d / "interaction" / f"adhesion_{last:06d}.csv"), f"{s} s_ref"))
@@ -217,7 +227,7 @@ def shell_section_forces(directory, figdir):
         v = v if v.ndim == 1 else v[:, c]
         s = a.tricontourf(ref[:, 0], ref[:, 1], v, levels=30, cmap="coolwarm")
         fig.colorbar(s, ax=a)
-        a.set(title=f"{name[0]}_{labels[c]} at t = 1", aspect="equal", xlabel="X", ylabel="Y")
+        a.set(title=f"{name[0]}_{labels[c]} at {files[-1].stem}", aspect="equal", xlabel="X", ylabel="Y")
     for a in list(axes.flat)[len(wanted):]:
         a.axis("off")
     save(fig, figdir / "bending_fig25_section_forces.png")
