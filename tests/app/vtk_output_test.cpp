@@ -48,8 +48,10 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   const std::string from = "t_end: 1.0";
   ASSERT_NE(text.find(from), std::string::npos);
   std::ofstream(shorter) << text.replace(text.find(from), from.size(), "t_end: 0.25");
-  const auto rerun = run_cli("run '" + shorter.string() + "' -q -o '" + out.string() + "'");
+  const auto rerun = run_cli("run '" + shorter.string() + "' -q --newton-log -o '" + out.string() + "'");
   ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
+  // --newton-log: a line per Newton iteration, from the first iteration of the first step.
+  EXPECT_NE(rerun.output.find("newton t=0.05 it=0 |r|="), std::string::npos) << rerun.output;
   int vtu = 0;
   for (const auto& f : std::filesystem::directory_iterator(out / "vtk")) vtu += f.path().extension() == ".vtu";
   EXPECT_EQ(vtu, 6);  // the initial state and 5 steps of 0.05

@@ -143,6 +143,36 @@ TEST(ClosestPoint, SaddleOnAMirrorEdgeMovesToTheGroovesMinimum) {
   }
 }
 
+// Two nearly equally close minima: the parabola z = x^2 over x in [-1, 1] (40 elements) seen from
+// p = (delta, 0.5, 1) has minima near x = +-0.707 (f = d^2 = (x - delta)^2 + (1 - x^2)^2), the one at +x
+// closer by 2.8 delta in d^2, i.e. by 1.9e-3 of d for delta = 1e-3. From a start at the -x minimum, margin 0
+// moves to the closer +x one (the global check finds a closer sample there); a margin of 1e-2 of d keeps
+// the -x branch (a point stays on its branch), and a start at +x stays there anyway.
+TEST(ClosestPoint, KeepMarginKeepsANearlyEquallyCloseBranch) {
+  const spline::KnotVector ku = spline::KnotVector::open_uniform(2, 1, 1);
+  const spline::KnotVector kv = spline::KnotVector::open_uniform(1, 1, 0);
+  std::vector<Eigen::Vector3d> points;
+  for (int j = 0; j < 2; ++j)
+    for (const Eigen::Vector2d& xz : {Eigen::Vector2d(-1, 1), Eigen::Vector2d(0, -1), Eigen::Vector2d(1, 1)})
+      points.emplace_back(xz[0], j, xz[1]);
+  spline::NurbsSurface parabola(ku, kv, points);
+  parabola.refine(0, 2, 1, 40);
+  const ShellProximity prox(parabola);
+  // y = 0.5: on the middle row of the 3 x 3 samples by which the global check finds the other branch (it
+  // switches only where a sample beats the bound, i.e. to a branch closer by more than the sampling error)
+  const Eigen::Vector3d p(1e-3, 0.5, 1.0);
+  const Eigen::Vector2d left(0.5 * (1 - std::sqrt(0.5)), 0.5), right(0.5 * (1 + std::sqrt(0.5)), 0.5);
+  const auto switched = prox.project(p, left);
+  const auto kept = prox.project(p, left, 1e-2);
+  ASSERT_EQ(switched.where, Where::interior);
+  ASSERT_EQ(kept.where, Where::interior);
+  EXPECT_GT(switched.u, 0.5);  // the closer, +x minimum
+  EXPECT_LT(kept.u, 0.5);      // still the -x branch
+  EXPECT_GT(kept.distance, switched.distance);
+  EXPECT_LT(kept.distance - switched.distance, 1e-2 * switched.distance);
+  EXPECT_GT(prox.project(p, right, 1e-2).u, 0.5);
+}
+
 // Brute force: dense 200 x 200 sampling, then a pattern search (coordinate steps halved until 1e-12) that
 // shares nothing with the Newton iteration under test.
 Eigen::Vector3d brute_force(const spline::NurbsSurface& s, const Eigen::Vector3d& p) {
