@@ -242,7 +242,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
             continue;
           }
         }
-        // No measurable descent: a minimum to round-off, at a centre of curvature in one direction (e.g. a
+        // No descent found along it: a minimum to round-off, at a centre of curvature in one direction (e.g. a
         // groove on a mirror edge with radius = distance, where symmetry pins the projection in that
         // direction). Kept: the distance and normal are right. Flat in BOTH directions (the centre of a
         // sphere) theta-hat is arbitrary: failed.
@@ -259,7 +259,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     if (!(M.determinant() > 0 && M(0, 0) > 0)) {
       Eigen::Matrix2d G;
       G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
-      const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(C, G);
+      const auto eig = relative_curvature(s, C);
       if (eig.info() == Eigen::Success) {
         const Eigen::Matrix2d GE = G * eig.eigenvectors();  // C = G E Lambda E^T G with E^T G E = 1
         M = GE * eig.eigenvalues().cwiseAbs().cwiseMax(1e-2).asDiagonal() * GE.transpose();

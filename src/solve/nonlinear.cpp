@@ -18,9 +18,10 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
   for (int it = 0;; ++it) {
     sys.evaluate(q, t, true);
     double norm = sys.residual().norm();
-    // Backtracking on |r|: a full update that raised the residual is halved (not at the round-off floor,
-    // where |r| wanders). Where a residual is discontinuous in q (a beam point whose closest point jumps
-    // to another branch of a sharply curved shell), plain Newton can cycle between the branches for ever.
+    // Backtracking on |r| (steps.line_search, off by default): a full update that raised the residual is
+    // halved (not at the round-off floor, where |r| wanders). It turns overshooting updates (Newton on
+    // atan diverges) into converging ones; it did not help where the residual is discontinuous (the
+    // bending example's closest-point branch switch at the fiber's tip).
     for (int halvings = 0; it > 0 && !small_update && halvings < opt.line_search && !(norm <= previous_norm);
          ++halvings) {
       applied *= 0.5;

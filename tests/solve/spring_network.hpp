@@ -98,6 +98,7 @@ class SpringNetwork : public NonlinearSystem {
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
   int pattern_version() const override { return assembler_.pattern_version(); }
   void accept(const Eigen::VectorXd&, double) override { ++accepted_; }
+  void reject() override { ++rejected_; }
 
   double energy(const Eigen::VectorXd& q, double t) {  // total potential, for residual checks
     u_ = constraints_.expand(q, t, curves_);
@@ -113,6 +114,7 @@ class SpringNetwork : public NonlinearSystem {
   SparseAssembler& assembler() { return assembler_; }
   const Eigen::VectorXd& displacements() const { return u_; }  // full u at the last evaluate
   int accepted() const { return accepted_; }
+  int rejected() const { return rejected_; }
   void set_parallel_threshold(int bars) { parallel_threshold_ = bars; }
 
  private:
@@ -129,7 +131,7 @@ class SpringNetwork : public NonlinearSystem {
   CurveEval curves_;
   SparseAssembler assembler_;
   Eigen::VectorXd u_;
-  int accepted_ = 0;
+  int accepted_ = 0, rejected_ = 0;
   int parallel_threshold_ = 64;  // tiny networks: thread start-up costs more than the work
 };
 

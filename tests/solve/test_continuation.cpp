@@ -125,10 +125,11 @@ TEST(Continuation, CutsBackWhenAStepIsTooLargeAndRecovers) {
   sc.dt_max = 1.0;
   NewtonOptions opt;
   opt.max_iterations = 4;  // a full step from rest needs more
-  int cutback_steps = 0;
+  int cutback_steps = 0, cutbacks = 0;
   double t_last = 0;
   const ContinuationResult res = run_continuation(bar, q, sc, opt, *solver, [&](const StepReport& rep, const Eigen::VectorXd& qs) {
     cutback_steps += rep.cutbacks > 0;
+    cutbacks += rep.cutbacks;
     EXPECT_GT(rep.t, t_last);
     t_last = rep.t;
     EXPECT_NEAR(qs[0], std::atanh(load * rep.t), 1e-7);  // converged to 1e-9 * F, tangent >= 0.06
@@ -136,6 +137,8 @@ TEST(Continuation, CutsBackWhenAStepIsTooLargeAndRecovers) {
   });
   ASSERT_TRUE(res.completed) << res.message;
   EXPECT_GE(cutback_steps, 1);
+  // Every failed attempt tells the system (history-dependent state, e.g. projection branches, goes back).
+  EXPECT_EQ(bar.rejected(), cutbacks);
   EXPECT_EQ(t_last, 1.0);
   EXPECT_NEAR(q[0], std::atanh(load), 1e-7);
 }
