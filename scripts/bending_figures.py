@@ -9,6 +9,7 @@ resumes). The paper's mesh is the example itself; its run is taken from results/
 holds a finished run. PNGs go to docs/figures/ (with --quick, which uses coarse meshes
 into results/bending-quick/ as a smoke test of the whole chain, to results/bending-quick/figures/).
 """
+import re
 import sys
 
 import numpy as np
@@ -68,18 +69,13 @@ def is_finished(directory):
     return fibrane_runs.is_finished(directory)
 
 
-def run_dir(results, name, quick):
+def run_dir(results, name, quick, started=False):
+    """A variant's folder; the paper's mesh is results/bending-paper/ (where the example is run by hand) once
+    that holds a finished run, or, with started=True (for the figures), any run that wrote a history there
+    (its curves then end where it stopped)."""
     paper = ROOT / "results" / "bending-paper"
-    if not quick and name == "mesh_400x100x100" and is_finished(paper):
-        return paper
-    return results / name
-
-
-def result_dir(results, name, quick):
-    """Where the figures read a variant: the paper-mesh run in results/bending-paper/ even when it stopped
-    early (its curves then end where it stopped), else the variant's own folder."""
-    paper = ROOT / "results" / "bending-paper"
-    if not quick and name == "mesh_400x100x100" and (paper / "history.csv").exists():
+    use_paper = (paper / "history.csv").exists() if started else is_finished(paper)
+    if not quick and name == "mesh_400x100x100" and use_paper:
         return paper
     return results / name
 
@@ -95,8 +91,8 @@ def run_variant(name, edits, results, fibrane, quick):
 read_csv = fibrane_runs.read_csv
 
 
-# RF2 equilibrium distance (examples/bending.yaml's z0): the law attracts beyond it and repels inside it.
-D_EQUILIBRIUM = 0.78216128295028686
+# RF2 equilibrium distance = the example's z0 (the beam's height): the law attracts beyond it, repels inside it.
+D_EQUILIBRIUM = float(re.search(r"line: \{from: \[0, 0, ([0-9.eE+-]+)\]", EXAMPLE.read_text()).group(1))
 HALF_LENGTH = 4.0  # the modelled half beam; the paper's xi runs over the whole beam (length 8) from an end
 INSTANTS = (0.25, 0.5, 0.75, 0.87, 1.0)
 
@@ -146,7 +142,7 @@ def at_instants(t, values):
 
 def figures(results, figdir, quick):
     meshes = list(QUICK_MESHES if quick else MESHES)
-    done = {m: result_dir(results, f"mesh_{m}", quick) for m in meshes}
+    done = {m: run_dir(results, f"mesh_{m}", quick, started=True) for m in meshes}
     done = {m: d for m, d in done.items() if (d / "history.csv").exists()}
     table = []
     # Fig. 23: u_z and interaction force at the beam end vs t, four meshes.
@@ -189,7 +185,7 @@ def figures(results, figdir, quick):
     strength_mesh = f"mesh_{meshes[1]}"
     curves = []
     for s in STRENGTHS:
-        d = result_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick)
+        d = run_dir(results, strength_mesh if s == "1" else f"strength_{s}", quick, started=True)
         if (d / "history.csv").exists():
             last = int(read_csv(d / "history.csv")["step"][-1])
             curves.append((read_csv(d / "interaction" / f"adhesion_{last:06d}.csv"), f"{s} s_ref"))
