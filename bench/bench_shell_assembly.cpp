@@ -106,17 +106,20 @@ struct Breakdown {
     double energy = 0.0;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
+    fibrane::shell::ElementTangent element_tangent;
     std::size_t q = 0;
     for (std::size_t e = 0; e < s.elements.size(); ++e) {
       const auto& cps = s.element_control_points[e];
       const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, dofs);
       const int n = 3 * static_cast<int>(cps.size());
       r.setZero(n);
-      k.setZero(n, n);
+      element_tangent.reset(static_cast<int>(cps.size()));
       const double w = ju(e) * jv(e);
       for (double wv : gv.weights)
         for (double wu : gu.weights)
-          fibrane::shell::add_shell_point(s.section, bases[q++].R, X, x, wu * wv * w, &energy, &r, &k);
+          fibrane::shell::add_shell_point(s.section, bases[q++].R, X, x, wu * wv * w, &energy, &r, &element_tangent);
+      k.setZero(n, n);
+      element_tangent.add_to(k);
     }
     return energy;
   }

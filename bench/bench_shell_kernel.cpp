@@ -51,7 +51,7 @@ void BM_ShellPointResidualOnly(benchmark::State& state) {
   Eigen::VectorXd r = Eigen::VectorXd::Zero(3 * nen);
   double energy = 0.0;
   for (auto _ : state) {
-    fibrane::shell::add_shell_point(section, d.R, d.X, d.x, 1e-3, &energy, &r, nullptr);
+    fibrane::shell::add_shell_point(section, d.R, d.X, d.x, 1e-3, &energy, &r);
     benchmark::DoNotOptimize(r.data());
     benchmark::ClobberMemory();
   }

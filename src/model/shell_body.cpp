@@ -4,6 +4,7 @@
 
 #include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
+#include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::model {
@@ -50,11 +51,27 @@ double ShellBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, 
   const auto gu = spline::gauss_legendre(gauss(0));
   const auto gv = spline::gauss_legendre(gauss(1));
   const int n_elements = static_cast<int>(elements.size());
+  // The 1-D bases at the Gauss points, per element column (u) and row (v): the tensor product per point
+  // is then a few multiplications (evaluating both at every point cost ~28 % of the assembly).
+  const int n_u = surface.knots(0).num_elements();
+  std::vector<Eigen::MatrixXd> along_u, along_v;
+  for (int iu = 0; iu < n_u; ++iu)
+    for (double g : gu.points) {
+      const auto& el = elements[iu];
+      along_u.push_back(spline::bspline_basis_derivs(surface.knots(0), el.span_u, el.u0 + (g + 1.0) * 0.5 * (el.u1 - el.u0), 2));
+    }
+  for (int e = 0; e < n_elements; e += n_u)
+    for (double g : gv.points) {
+      const auto& el = elements[e];
+      along_v.push_back(spline::bspline_basis_derivs(surface.knots(1), el.span_v, el.v0 + (g + 1.0) * 0.5 * (el.v1 - el.v0), 2));
+    }
   double energy = 0.0;
 #pragma omp parallel reduction(+ : energy)
   {
+    spline::SurfaceBasis basis;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
+    shell::ElementTangent element_tangent;
 #pragma omp for schedule(dynamic, 16)
     for (int e = 0; e < n_elements; ++e) {
       const auto& el = elements[e];
@@ -63,16 +80,20 @@ double ShellBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, 
       const Eigen::Matrix3Xd x = current(cps, u, dofs);
       const int n = 3 * static_cast<int>(cps.size());
       r.setZero(n);
-      if (with_tangent) k.setZero(n, n);
+      if (with_tangent) element_tangent.reset(static_cast<int>(cps.size()));
       const double ju = 0.5 * (el.u1 - el.u0), jv = 0.5 * (el.v1 - el.v0);
+      const std::size_t iu = e % n_u, iv = e / n_u;
       for (std::size_t j = 0; j < gv.points.size(); ++j) {
-        const double pv = el.v0 + (gv.points[j] + 1.0) * jv;
         for (std::size_t i = 0; i < gu.points.size(); ++i) {
-          const double pu = el.u0 + (gu.points[i] + 1.0) * ju;
-          const auto basis = surface.basis_in(el.span_u, el.span_v, pu, pv);
+          surface.tensor_basis(el.span_u, el.span_v, along_u[iu * gu.points.size() + i], along_v[iv * gv.points.size() + j],
+                               basis);
           const double w = gu.weights[i] * gv.weights[j] * ju * jv;
-          shell::add_shell_point(section, basis.R, X, x, w, &energy, &r, with_tangent ? &k : nullptr);
+          shell::add_shell_point(section, basis.R, X, x, w, &energy, &r, with_tangent ? &element_tangent : nullptr);
         }
+      }
+      if (with_tangent) {
+        k.setZero(n, n);
+        element_tangent.add_to(k);
       }
       a.add(first_element + e, r, with_tangent ? &k : nullptr);
     }

@@ -15,6 +15,14 @@
 #include "shell/kl_shell.hpp"
 #include "shell/surface_metric.hpp"
 
+// Portable binaries with a fast path: GCC compiles the kernel twice and picks the AVX2 version at load
+// time where the processor has it (x86-64 only; elsewhere one generic version).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__AVX2__)
+#define FIBRANE_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define FIBRANE_SIMD_CLONES
+#endif
+
 namespace fibrane::shell {
 namespace {
 
@@ -23,30 +31,56 @@ struct NodeTerms {
   double r1, r2;                   // R_1A, R_2A
   Eigen::Matrix3d membrane;        // columns: d(E11, E22, 2E12)/du_A
   Eigen::Vector3d bending;         // (c11, c22, 2 c12): d(K11, K22, 2K12)/du_A = bending * n^T
-  Eigen::Matrix3d membrane_stiff;  // membrane * (h D); column i: d(N^11, N^22, N^12)_i / du_A
-  Eigen::Vector3d bending_stiff;   // (h^3/12) D bending: d(M^11, M^22, M^12)/du_A along n
-  Eigen::Vector3d v;               // R_1A g^1 + R_2A g^2
   double moment_work;              // M^ab c_abA, summed with the Voigt factor 2 on 12
 };
 
+// The node terms the tangent needs of the column node B, as arrays over B (see ElementTangent).
+struct ColumnTerms {
+  double r1[kMaxShellNodes], r2[kMaxShellNodes];
+  double membrane[3][3][kMaxShellNodes];  // [strain k][component j][B] = d(strain k)/du_B,j
+  double bending[3][kMaxShellNodes];
+  double v[3][kMaxShellNodes];            // v_B = R_1B g^1 + R_2B g^2
+  double moment_work[kMaxShellNodes];
+};
+
 void check_sizes(const BasisDerivs& R, const Eigen::Matrix3Xd& X, const Eigen::Matrix3Xd& x,
-                 const Eigen::VectorXd* residual, const Eigen::MatrixXd* tangent) {
+                 const Eigen::VectorXd* residual, Eigen::Index tangent_nodes) {
   const Eigen::Index nen = R.cols(), ndof = 3 * nen;
   if (X.cols() != nen || x.cols() != nen)
     throw std::invalid_argument("add_shell_point: basis and control points disagree on the node count");
   if (nen > kMaxShellNodes) throw std::invalid_argument("add_shell_point: too many control points");
   if (residual && residual->size() != ndof)
     throw std::invalid_argument("add_shell_point: residual must have size 3 * nen");
-  if (tangent && (tangent->rows() != ndof || tangent->cols() != ndof))
+  if (tangent_nodes >= 0 && tangent_nodes != nen)
     throw std::invalid_argument("add_shell_point: tangent must have size 3 nen x 3 nen");
 }
 
 }  // namespace
 
-void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::Matrix3Xd& X,
+void ElementTangent::reset(int nen) {
+  nen_ = nen;
+  data_.assign(static_cast<std::size_t>(9) * nen * nen, 0.0);
+}
+
+void ElementTangent::add_to(Eigen::MatrixXd& k) const {
+  if (k.rows() != 3 * nen_ || k.cols() != 3 * nen_)
+    throw std::invalid_argument("ElementTangent::add_to: matrix must have size 3 nen x 3 nen");
+  for (int A = 0; A < nen_; ++A)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double* from = row(A, i, j);
+        k(3 * A + i, 3 * A + j) += from[A];
+        for (int B = A + 1; B < nen_; ++B) {
+          k(3 * A + i, 3 * B + j) += from[B];
+          k(3 * B + j, 3 * A + i) += from[B];
+        }
+      }
+}
+
+FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::Matrix3Xd& X,
                      const Eigen::Matrix3Xd& x, double weight, double* energy, Eigen::VectorXd* residual,
-                     Eigen::MatrixXd* tangent) {
-  check_sizes(R, X, x, residual, tangent);
+                     ElementTangent* tangent) {
+  check_sizes(R, X, x, residual, tangent ? tangent->nodes() : -1);
   const SurfaceMetric ref = surface_metric(R, X);
   const SurfaceMetric cur = surface_metric(R, x);
   const double scale = weight * ref.area_jacobian;  // dA = J_S dtheta1 dtheta2 (Eq. 28)
@@ -69,9 +103,9 @@ void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::M
   gamma << cur.g11.dot(cur.dual1), cur.g22.dot(cur.dual1), cur.g12.dot(cur.dual1),
       cur.g11.dot(cur.dual2), cur.g22.dot(cur.dual2), cur.g12.dot(cur.dual2);
 
-  const Eigen::Index nen = R.cols();
+  const int nen = static_cast<int>(R.cols());
   NodeTerms nodes[kMaxShellNodes];
-  for (Eigen::Index A = 0; A < nen; ++A) {
+  for (int A = 0; A < nen; ++A) {
     NodeTerms& t = nodes[A];
     t.r1 = R(1, A);
     t.r2 = R(2, A);
@@ -87,35 +121,72 @@ void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::M
   }
   if (!tangent) return;
 
-  for (Eigen::Index A = 0; A < nen; ++A) {
-    NodeTerms& t = nodes[A];
-    t.membrane_stiff.noalias() = t.membrane * Dm;
-    t.bending_stiff.noalias() = Db * t.bending;
-    t.v = t.r1 * cur.dual1 + t.r2 * cur.dual2;
+  ColumnTerms c;
+  for (int B = 0; B < nen; ++B) {
+    const NodeTerms& t = nodes[B];
+    c.r1[B] = t.r1;
+    c.r2[B] = t.r2;
+    for (int a = 0; a < 3; ++a) {
+      for (int j = 0; j < 3; ++j) c.membrane[a][j][B] = t.membrane(j, a);
+      c.bending[a][B] = t.bending[a];
+      c.v[a][B] = t.r1 * cur.dual1[a] + t.r2 * cur.dual2[a];
+    }
+    c.moment_work[B] = t.moment_work;
   }
   // Moment-weighted curvature M^ab b_ab of the second variation of b_ab (Voigt factor 2 on 12).
   const double moment_curvature = M[0] * cur.curvature[0] + M[1] * cur.curvature[1] +
                                   2.0 * M[2] * cur.curvature[2];
-  const Eigen::Matrix3d nn = n * n.transpose();
-  for (Eigen::Index A = 0; A < nen; ++A) {
+  for (int A = 0; A < nen; ++A) {
     const NodeTerms& a = nodes[A];
-    for (Eigen::Index B = A; B < nen; ++B) {
-      const NodeTerms& b = nodes[B];
-      // Material part: dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1); the bending part is along n n^T,
-      // as is the b_ab (v_A . v_B) term of M^ab d2b_ab.
-      Eigen::Matrix3d kab;
-      kab.noalias() = a.membrane_stiff * b.membrane.transpose();
-      const double normal_coeff = a.bending_stiff.dot(b.bending) - moment_curvature * a.v.dot(b.v);
-      // Geometric part from the membrane forces, N^ab d2E_ab (Eq. A2).
-      const double isotropic = N[0] * a.r1 * b.r1 + N[1] * a.r2 * b.r2 + N[2] * (a.r1 * b.r2 + a.r2 * b.r1);
-      kab += normal_coeff * nn;
-      kab.diagonal().array() += isotropic;
-      // Remaining geometric part from the moments, M^ab d2b_ab (Eq. A8).
-      kab.noalias() -= (a.moment_work * b.v) * n.transpose() + (b.moment_work * n) * a.v.transpose();
-      tangent->block<3, 3>(3 * A, 3 * B) += scale * kab;
-      if (B != A) tangent->block<3, 3>(3 * B, 3 * A) += scale * kab.transpose();
+    // Row-node factors of block (A, B), each times `scale`:
+    //   material part dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1), the bending part along n n^T;
+    //   geometric part N^ab d2E_ab (Eq. A2): an isotropic block;
+    //   geometric part M^ab d2b_ab (Eq. A8 regrouped): -b_ab (v_A . v_B) n n^T - c_abA v_B n^T - c_abB n v_A^T.
+    const Eigen::Matrix3d ms = scale * a.membrane * Dm;  // ms(i, k) = scale d(N^k)/du_A,i
+    const Eigen::Vector3d bs = scale * (Db * a.bending);
+    const double va[3] = {a.r1 * cur.dual1[0] + a.r2 * cur.dual2[0], a.r1 * cur.dual1[1] + a.r2 * cur.dual2[1],
+                          a.r1 * cur.dual1[2] + a.r2 * cur.dual2[2]};
+    const double mv[3] = {scale * moment_curvature * va[0], scale * moment_curvature * va[1],
+                          scale * moment_curvature * va[2]};
+    const double p1 = scale * (N[0] * a.r1 + N[2] * a.r2), p2 = scale * (N[1] * a.r2 + N[2] * a.r1);
+    // The scalar factors of n n^T and of the identity for every column node, once per row node.
+    double normal[kMaxShellNodes], isotropic[kMaxShellNodes];
+    for (int B = A; B < nen; ++B) {
+      normal[B] = bs[0] * c.bending[0][B] + bs[1] * c.bending[1][B] + bs[2] * c.bending[2][B] -
+                  (mv[0] * c.v[0][B] + mv[1] * c.v[1][B] + mv[2] * c.v[2][B]);
+      isotropic[B] = p1 * c.r1[B] + p2 * c.r2[B];
     }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double nn = n[i] * n[j];
+        const double by_v = -scale * a.moment_work * n[j];  // times v_B,i
+        const double by_moment = -scale * n[i] * va[j];     // times M^ab c_abB
+        const double ms0 = ms(i, 0), ms1 = ms(i, 1), ms2 = ms(i, 2);
+        double* __restrict out = tangent->row(A, i, j);
+        const double* __restrict m0 = c.membrane[0][j];
+        const double* __restrict m1 = c.membrane[1][j];
+        const double* __restrict m2 = c.membrane[2][j];
+        const double* __restrict vi = c.v[i];
+        const double* __restrict mw = c.moment_work;
+        for (int B = A; B < nen; ++B)
+          out[B] += ms0 * m0[B] + ms1 * m1[B] + ms2 * m2[B] + nn * normal[B] + by_v * vi[B] + by_moment * mw[B];
+        if (i == j)
+          for (int B = A; B < nen; ++B) out[B] += isotropic[B];
+      }
   }
+}
+
+void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::Matrix3Xd& X,
+                     const Eigen::Matrix3Xd& x, double weight, double* energy, Eigen::VectorXd* residual,
+                     Eigen::MatrixXd* tangent) {
+  if (!tangent) return add_shell_point(s, R, X, x, weight, energy, residual);
+  const Eigen::Index ndof = 3 * R.cols();
+  if (tangent->rows() != ndof || tangent->cols() != ndof)
+    throw std::invalid_argument("add_shell_point: tangent must have size 3 nen x 3 nen");
+  ElementTangent scratch;
+  scratch.reset(static_cast<int>(R.cols()));
+  add_shell_point(s, R, X, x, weight, energy, residual, &scratch);
+  scratch.add_to(*tangent);
 }
 
 }  // namespace fibrane::shell

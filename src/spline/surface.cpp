@@ -45,37 +45,41 @@ SurfaceBasis NurbsSurface::basis(double u, double v) const {
 //   R_uu = (A_uu - 2 R_u W_u - R W_uu) / W
 //   R_uv = (A_uv - R_u W_v - R_v W_u - R W_uv) / W     (quotient rule, twice)
 SurfaceBasis NurbsSurface::basis_in(int span_u, int span_v, double u, double v) const {
-  const int p = degree(0), q = degree(1);
-  const Eigen::MatrixXd nu = bspline_basis_derivs(knots_u_, span_u, u, 2);
-  const Eigen::MatrixXd nv = bspline_basis_derivs(knots_v_, span_v, v, 2);
-  const int count = (p + 1) * (q + 1);
   SurfaceBasis result;
-  result.indices.resize(count);
-  Eigen::Matrix<double, 6, Eigen::Dynamic> a(6, count);  // weighted products A, A_u, A_v, ...
+  tensor_basis(span_u, span_v, bspline_basis_derivs(knots_u_, span_u, u, 2), bspline_basis_derivs(knots_v_, span_v, v, 2),
+               result);
+  return result;
+}
+
+void NurbsSurface::tensor_basis(int span_u, int span_v, const Eigen::MatrixXd& nu, const Eigen::MatrixXd& nv,
+                                SurfaceBasis& out) const {
+  const int p = degree(0), q = degree(1);
+  const int count = (p + 1) * (q + 1);
+  out.indices.resize(count);
+  auto& r = out.R;
+  r.resize(6, count);  // first the weighted products A, A_u, A_v, ...; then R in place, row by row
   for (int j = 0; j <= q; ++j) {
     for (int i = 0; i <= p; ++i) {
       const int local = i + (p + 1) * j;
       const int global = index(span_u - p + i, span_v - q + j);
       const double w = weights_[global];
-      result.indices[local] = global;
-      a(0, local) = w * nu(0, i) * nv(0, j);
-      a(1, local) = w * nu(1, i) * nv(0, j);
-      a(2, local) = w * nu(0, i) * nv(1, j);
-      a(3, local) = w * nu(2, i) * nv(0, j);
-      a(4, local) = w * nu(1, i) * nv(1, j);
-      a(5, local) = w * nu(0, i) * nv(2, j);
+      out.indices[local] = global;
+      r(0, local) = w * nu(0, i) * nv(0, j);
+      r(1, local) = w * nu(1, i) * nv(0, j);
+      r(2, local) = w * nu(0, i) * nv(1, j);
+      r(3, local) = w * nu(2, i) * nv(0, j);
+      r(4, local) = w * nu(1, i) * nv(1, j);
+      r(5, local) = w * nu(0, i) * nv(2, j);
     }
   }
-  const Eigen::Matrix<double, 6, 1> w = a.rowwise().sum();
-  auto& r = result.R;
-  r.resize(6, count);
-  r.row(0) = a.row(0) / w[0];
-  r.row(1) = (a.row(1) - w[1] * r.row(0)) / w[0];
-  r.row(2) = (a.row(2) - w[2] * r.row(0)) / w[0];
-  r.row(3) = (a.row(3) - 2.0 * w[1] * r.row(1) - w[3] * r.row(0)) / w[0];
-  r.row(4) = (a.row(4) - w[2] * r.row(1) - w[1] * r.row(2) - w[4] * r.row(0)) / w[0];
-  r.row(5) = (a.row(5) - 2.0 * w[2] * r.row(2) - w[5] * r.row(0)) / w[0];
-  return result;
+  const Eigen::Matrix<double, 6, 1> w = r.rowwise().sum();
+  // Each row needs only itself and rows already divided through.
+  r.row(0) /= w[0];
+  r.row(1) = (r.row(1) - w[1] * r.row(0)) / w[0];
+  r.row(2) = (r.row(2) - w[2] * r.row(0)) / w[0];
+  r.row(3) = (r.row(3) - 2.0 * w[1] * r.row(1) - w[3] * r.row(0)) / w[0];
+  r.row(4) = (r.row(4) - w[2] * r.row(1) - w[1] * r.row(2) - w[4] * r.row(0)) / w[0];
+  r.row(5) = (r.row(5) - 2.0 * w[2] * r.row(2) - w[5] * r.row(0)) / w[0];
 }
 
 Eigen::Vector3d NurbsSurface::point(double u, double v) const {

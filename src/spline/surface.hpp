@@ -43,6 +43,11 @@ class NurbsSurface {
   // Same with the knot spans given (e.g. SurfaceElement::span_u/v), so that points on an element's
   // boundary are evaluated with that element's polynomial pieces.
   SurfaceBasis basis_in(int span_u, int span_v, double u, double v) const;
+  // The same from the 1-D B-spline values and first and second derivatives of each direction at the point
+  // (rows 0-2 of bspline_basis_derivs in the spans): element loops evaluate those once per element row and
+  // column. Overwrites `out`, reusing its storage (no allocation once it has the size).
+  void tensor_basis(int span_u, int span_v, const Eigen::MatrixXd& nu, const Eigen::MatrixXd& nv,
+                    SurfaceBasis& out) const;
   Eigen::Vector3d point(double u, double v) const;
   std::vector<SurfaceElement> elements() const;  // non-empty knot spans, u fastest
 

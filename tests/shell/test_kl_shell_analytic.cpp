@@ -118,7 +118,7 @@ TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
   EXPECT_LT(f.N.cwiseAbs().maxCoeff(), 1e-9 * s.young * s.thickness);
   // Energy per unit reference area: psi = (1/2)(m_11 kappa_11 + m_22 kappa_22) = D / (2 rho^2), kappa_22 = 0.
   double energy = 0.0;
-  add_shell_point(s, R, X, x, 1.0, &energy, nullptr, nullptr);
+  add_shell_point(s, R, X, x, 1.0, &energy, nullptr);
   const double area_jacobian = (X * R.row(1).transpose()).cross(X * R.row(2).transpose()).norm();
   EXPECT_NEAR(energy / area_jacobian, 0.5 * D / (rho * rho), 1e-10 * D / (rho * rho));
 }
@@ -135,7 +135,7 @@ TEST(ShellAnalytic, SectionForcesAreEnergyDerivatives) {
   const double area_jacobian = (X * R.row(1).transpose()).cross(X * R.row(2).transpose()).norm();
   auto density = [&](const Eigen::Matrix3Xd& y) {
     double e = 0.0;
-    add_shell_point(s, R, X, y, 1.0, &e, nullptr, nullptr);
+    add_shell_point(s, R, X, y, 1.0, &e, nullptr);
     return e / area_jacobian;
   };
   const SectionForces f = section_forces(s, R, X, x);

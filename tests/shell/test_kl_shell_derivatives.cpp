@@ -139,14 +139,14 @@ TEST(ShellKernel, AccumulatesWithWeightAndOnlyIntoRequestedOutputs) {
   // Two calls with weights 0.25 and 0.5 must add up to 0.75 times one call with weight 1.
   double energy = 1.0;
   Eigen::VectorXd r = Eigen::VectorXd::Zero(3 * d.R.cols());
-  add_shell_point(section, d.R, d.X, d.x, 0.25, &energy, &r, nullptr);
-  add_shell_point(section, d.R, d.X, d.x, 0.5, &energy, &r, nullptr);
+  add_shell_point(section, d.R, d.X, d.x, 0.25, &energy, &r);
+  add_shell_point(section, d.R, d.X, d.x, 0.5, &energy, &r);
   EXPECT_NEAR(energy, 1.0 + 0.75 * once.energy, 1e-14 * (1.0 + once.energy));
   EXPECT_LT((r - 0.75 * once.residual).cwiseAbs().maxCoeff(), 1e-13 * once.residual.cwiseAbs().maxCoeff());
 
   Eigen::MatrixXd wrong_size = Eigen::MatrixXd::Zero(3, 3);
   EXPECT_THROW(add_shell_point(section, d.R, d.X, d.x, 1.0, nullptr, nullptr, &wrong_size), std::invalid_argument);
-  EXPECT_THROW(add_shell_point(section, d.R, d.X.leftCols(4), d.x, 1.0, &energy, nullptr, nullptr),
+  EXPECT_THROW(add_shell_point(section, d.R, d.X.leftCols(4), d.x, 1.0, &energy, nullptr),
                std::invalid_argument);
 }
 
