@@ -310,6 +310,19 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   return out;
 }
 
+ShellProximity::Projection ShellProximity::at(const Eigen::Vector3d& p, const Eigen::Vector2d& theta) const {
+  Projection out;
+  const SurfaceJet s = evaluate(surface_, points_, theta[0], theta[1]);
+  out.where = Projection::Where::interior;
+  out.u = theta[0];
+  out.v = theta[1];
+  out.element = element_at(theta[0], theta[1]);
+  out.point = s.r;
+  out.distance = (p - s.r).norm();
+  out.normal = out.distance > 0 ? Eigen::Vector3d((p - s.r) / out.distance) : Eigen::Vector3d::Zero();
+  return out;
+}
+
 ShellProximity::Projection ShellProximity::project(const Eigen::Vector3d& p,
                                                    const std::optional<Eigen::Vector2d>& start,
                                                    double keep_margin) const {

@@ -52,6 +52,10 @@ class ShellProximity {
   Projection project(const Eigen::Vector3d& p, const std::optional<Eigen::Vector2d>& start = std::nullopt,
                      double keep_margin = 0.0) const;
 
+  // The shell point at the given parameters, with distance and n-hat = (p - r_S) / d (not a projection:
+  // `interior` whatever the parameters; for comparing a previous closest point with the new one).
+  Projection at(const Eigen::Vector3d& p, const Eigen::Vector2d& theta) const;
+
   // The element (index into elements()) whose closed parameter box holds (u, v); the knot-span rule of
   // KnotVector::find_span decides on shared edges.
   int element_at(double u, double v) const;

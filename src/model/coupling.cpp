@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
 #include "model/beam_body.hpp"
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
@@ -29,6 +31,11 @@ double arc_length(const spline::NurbsCurve& c, double xi0, double xi) {
 // its branch (ShellProximity::project): switching at every Newton iterate made Newton cycle at the
 // bending example's folded shell under the fiber's end.
 constexpr double kBranchMargin = 1e-3;
+
+// A closest point that moves by more than kJump d in one evaluation while its beam point moves less than
+// 1/kJumpRatio of that has jumped to another branch (sliding moves it by < 1e-2 d per Newton iteration in
+// the examples, with the beam point; in a diverging attempt both move far).
+constexpr double kJump = 0.1, kJumpRatio = 10;
 
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
@@ -60,6 +67,8 @@ Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDisk
   projection_.resize(quad_.size());
   warm_.assign(quad_.size(), std::nullopt);
   last_ = warm_;
+  beam_points_.resize(quad_.size());
+  jump_.assign(quad_.size(), 0.0);
   points_.resize(quad_.size());
 }
 
@@ -75,6 +84,12 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
     projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
+    if (last_[i] && projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
+      const double moved = (proximity_.at(r, *last_[i]).point - projection_[i].point).norm();
+      if (moved > kJump * projection_[i].distance && moved > kJumpRatio * (r - beam_points_[i]).norm())
+        jump_[i] = std::max(jump_[i], moved / projection_[i].distance);
+    }
+    beam_points_[i] = r;
     const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
@@ -112,6 +127,37 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     pair_points_[it - pairs_.begin()].push_back(i);
   }
   return changed;
+}
+
+void Coupling::accept() {
+  warm_ = last_;
+  std::fill(jump_.begin(), jump_.end(), 0.0);
+  failed_jumps_.clear();
+}
+
+void Coupling::reject() {
+  last_ = warm_;
+  failed_jumps_.clear();
+  for (std::size_t i = 0; i < quad_.size(); ++i)
+    if (jump_[i] > 0) failed_jumps_.emplace_back(quad_[i].xi, jump_[i]);
+  std::fill(jump_.begin(), jump_.end(), 0.0);
+}
+
+std::string Coupling::failure_hint() const {
+  if (failed_jumps_.empty()) return {};
+  std::string xi;
+  double largest = 0;
+  for (std::size_t k = 0; k < failed_jumps_.size(); ++k) {
+    if (k < 4) xi += (k ? ", " : "") + fmt::format("{:.4g}", failed_jumps_[k].first);
+    largest = std::max(largest, failed_jumps_[k].second);
+  }
+  if (failed_jumps_.size() > 4) xi += ", ...";
+  return fmt::format(
+      "In the last attempt the closest points of {} beam point(s) of '{}' (xi = {}) jumped across the shell "
+      "(by up to {:.2g} times the distance) while the points barely moved: two shell regions are nearly "
+      "equally close there, and the closest-point SBS residual is discontinuous (docs/examples.md, "
+      "\"The beam end and the closest-point projection\")",
+      failed_jumps_.size(), name_, xi, largest);
 }
 
 std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const ShellBody& s,

@@ -51,9 +51,13 @@ class Coupling {
                   solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid);
   // After a converged step: its projections are the ones a failed attempt returns to. Every evaluation
   // starts from the previous evaluation's projections (the branch each point is on).
-  void accept() { warm_ = last_; }
+  void accept();
   // After a failed attempt (the step is cut back): back to the last converged step's projections.
-  void reject() { last_ = warm_; }
+  void reject();
+  // Closest points that jumped in the last failed attempt: moved by more than kJump d in one evaluation
+  // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
+  // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.
+  std::string failure_hint() const;
 
   const std::vector<CouplingPoint>& points() const { return points_; }
   double energy() const { return energy_; }
@@ -70,6 +74,9 @@ class Coupling {
   std::vector<QuadPoint> quad_;  // every beam quadrature point, in beam order
   std::vector<interaction::ShellProximity::Projection> projection_;
   std::vector<std::optional<Eigen::Vector2d>> warm_, last_;
+  std::vector<Eigen::Vector3d> beam_points_;  // each point's position at the previous evaluation
+  std::vector<double> jump_;                  // how far each closest point jumped in this attempt (0: not)
+  std::vector<std::pair<double, double>> failed_jumps_;  // (xi, jump / d) of the last failed attempt
   std::vector<std::pair<int, int>> pairs_;          // (beam element, shell element) in the pattern, sorted
   std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
   std::vector<CouplingPoint> points_;

@@ -182,6 +182,13 @@ void Model::reject() {
   for (auto& c : couplings) c.reject();
 }
 
+std::string Model::failure_hint() const {
+  std::string hint;
+  for (const auto& c : couplings)
+    if (const std::string h = c.failure_hint(); !h.empty()) hint += (hint.empty() ? "" : ". ") + h;
+  return hint;
+}
+
 void Model::accept(const Eigen::VectorXd& q, double t) {
   u_ = constraints.expand(q, t, curve_eval());
   for (auto& b : beams) b.accept(u_, dofs);

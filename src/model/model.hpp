@@ -89,6 +89,7 @@ class Model : public solve::NonlinearSystem {
   int pattern_version() const override { return assembler_.pattern_version(); }
   void accept(const Eigen::VectorXd& q, double t) override;
   void reject() override;
+  std::string failure_hint() const override;
   double residual_scale() const override { return load_scale_; }
   bool symmetric() const override;
 

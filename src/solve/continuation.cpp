@@ -52,6 +52,7 @@ ContinuationResult run_continuation(NonlinearSystem& sys, Eigen::VectorXd& q, co
         res.step_too_small = true;
         res.message = "step from t = " + std::to_string(t) + " failed with dt below dt_min = " +
                       std::to_string(sc.dt_min) + ": " + newton.failure;
+        if (const std::string hint = sys.failure_hint(); !hint.empty()) res.message += ". " + hint;
         return res;
       }
     }

@@ -24,6 +24,9 @@ class NonlinearSystem {
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
   virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
+  // What the system saw in the last failed attempt that may explain it (empty: nothing); appended to the
+  // message of a continuation that stops.
+  virtual std::string failure_hint() const { return {}; }
 };
 
 struct NewtonOptions {
