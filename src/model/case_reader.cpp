@@ -179,6 +179,8 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     if (run.newton.line_search < 0 || run.newton.line_search > 30)
       (*node)["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
   }
+  if (node->has("reuse_factorization"))
+    run.newton.reuse_below = (*node)["reuse_factorization"].in_range(0.0, 1.0, false, true);
   run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();

@@ -41,6 +41,11 @@ struct NewtonOptions {
   // Backtracking: an update after which |r| rose is halved, at most this many times per update, before
   // Newton goes on from there (0: plain Newton). Each halving costs one evaluation with tangent.
   int line_search = 0;
+  // Factorisation reuse (modified Newton; 0: off). Once an update has cut |r| to this fraction or less,
+  // the next updates reuse the latest factorisation with residual-only evaluations, as long as each cuts
+  // |r| by at least 4; otherwise the tangent is assembled and factorised again. Where Newton converges
+  // quadratically this replaces the last factorisations of a step by solves.
+  double reuse_below = 0;
   bool verbose = false;               // one line per iteration on stderr
   double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
 };
@@ -49,6 +54,7 @@ struct NewtonReport {
   bool converged = false;
   int iterations = 0;          // number of linear solves (updates of q)
   int backtracks = 0;          // halvings of updates by the line search
+  int factorizations = 0;      // updates with a fresh factorisation (the others reused one)
   double residual_norm = 0;    // at the last evaluation
   std::vector<double> history; // ||r|| at every evaluation, the first before any update
   std::string failure;         // empty when converged

@@ -92,6 +92,29 @@ TEST(Newton, ConvergesQuadraticallyToTheAnalyticalChain) {
   EXPECT_EQ(static_cast<int>(h.size()), rep.iterations + 1);
 }
 
+// Factorisation reuse (reuse_below): the same root to the same tolerance, with fewer factorisations than
+// updates once Newton is in its fast regime.
+TEST(Newton, ReusedFactorisationsReachTheSameRootWithFewerFactorisations) {
+  const int n = 6;
+  const double load = 0.8;
+  auto solve = [&](double reuse_below) {
+    SpringNetwork chain = make_chain(n, load);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(chain.size());
+    auto solver = make_linear_solver("auto", true);
+    NewtonOptions opt;
+    opt.tol_relative = 1e-13;
+    opt.reuse_below = reuse_below;
+    const NewtonReport rep = newton_solve(chain, q, 1.0, opt, *solver);
+    EXPECT_TRUE(rep.converged) << rep.failure;
+    EXPECT_NEAR(chain.displacements()[2 * n], chain_tip_displacement(n, load), 1e-11);
+    return rep;
+  };
+  const NewtonReport full = solve(0.0), reused = solve(0.1);
+  EXPECT_EQ(full.factorizations, full.iterations);
+  EXPECT_LT(reused.factorizations, full.factorizations);
+  EXPECT_LT(reused.factorizations, reused.iterations);
+}
+
 TEST(Newton, ReactionsBalanceTheExternalLoad) {
   const double load = 0.5;
   SpringNetwork chain = make_chain(4, load);
