@@ -79,38 +79,28 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
     // tangent (one more evaluation, now with the tangent).
     const double contraction = it > 0 ? norm / rep.history[it - 1] : 1.0;
-    if (reuse && !(contraction <= 0.25)) {
+    if (reuse && (!factor_valid || !(contraction <= 0.25))) {
       reuse = false;
       sys.evaluate(q, t, true);
     }
-    if (reuse && factor_valid) {
-      const Eigen::VectorXd dq = solver.solve(-sys.residual());
-      if (!dq.allFinite()) {
-        rep.failure = "non-finite Newton update at iteration " + std::to_string(it);
+    const bool fresh = !reuse;
+    if (fresh) {
+      const Eigen::SparseMatrix<double>& k = sys.tangent();
+      // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's
+      // derivative is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
+      if (!Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite()) {
+        rep.failure = "non-finite tangent at iteration " + std::to_string(it);
         return rep;
       }
-      q += dq;
-      last_update = dq;
-      applied = 1.0;
-      small_update = opt.tol_increment > 0 && dq.norm() <= opt.tol_increment * q.norm();
-      rep.iterations = it + 1;
-      continue;
+      solver.analyze_if_needed(k, sys.pattern_version());
+      factor_valid = false;
+      if (!solver.factorize(k)) {
+        rep.failure = "factorization failed (" + solver.name() + ") at iteration " + std::to_string(it);
+        return rep;
+      }
+      factor_valid = true;
+      ++rep.factorizations;
     }
-    const Eigen::SparseMatrix<double>& k = sys.tangent();
-    // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's derivative
-    // is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
-    if (!Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite()) {
-      rep.failure = "non-finite tangent at iteration " + std::to_string(it);
-      return rep;
-    }
-    solver.analyze_if_needed(k, sys.pattern_version());
-    factor_valid = false;
-    if (!solver.factorize(k)) {
-      rep.failure = "factorization failed (" + solver.name() + ") at iteration " + std::to_string(it);
-      return rep;
-    }
-    factor_valid = true;
-    ++rep.factorizations;
     const Eigen::VectorXd dq = solver.solve(-r);
     if (!dq.allFinite()) {
       rep.failure = "non-finite Newton update at iteration " + std::to_string(it);
@@ -121,9 +111,9 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     applied = 1.0;
     small_update = opt.tol_increment > 0 && dq.norm() <= opt.tol_increment * q.norm();
     rep.iterations = it + 1;
-    // Newton is in its fast regime once an update cut |r| by reuse_below: the next updates reuse the
-    // factorisation just made.
-    reuse = opt.reuse_below > 0 && it > 0 && contraction <= opt.reuse_below;
+    // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
+    // factorisation just made (while each cuts |r| by 4, above).
+    if (fresh) reuse = opt.reuse_below > 0 && it > 0 && contraction <= opt.reuse_below;
   }
 }
 
