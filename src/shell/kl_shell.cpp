@@ -136,6 +136,7 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
   // Moment-weighted curvature M^ab b_ab of the second variation of b_ab (Voigt factor 2 on 12).
   const double moment_curvature = M[0] * cur.curvature[0] + M[1] * cur.curvature[1] +
                                   2.0 * M[2] * cur.curvature[2];
+  double normal[kMaxShellNodes] = {}, isotropic[kMaxShellNodes] = {};
   for (int A = 0; A < nen; ++A) {
     const NodeTerms& a = nodes[A];
     // Row-node factors of block (A, B), each times `scale`:
@@ -144,13 +145,11 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
     //   geometric part M^ab d2b_ab (Eq. A8 regrouped): -b_ab (v_A . v_B) n n^T - c_abA v_B n^T - c_abB n v_A^T.
     const Eigen::Matrix3d ms = scale * a.membrane * Dm;  // ms(i, k) = scale d(N^k)/du_A,i
     const Eigen::Vector3d bs = scale * (Db * a.bending);
-    const double va[3] = {a.r1 * cur.dual1[0] + a.r2 * cur.dual2[0], a.r1 * cur.dual1[1] + a.r2 * cur.dual2[1],
-                          a.r1 * cur.dual1[2] + a.r2 * cur.dual2[2]};
+    const double va[3] = {c.v[0][A], c.v[1][A], c.v[2][A]};
     const double mv[3] = {scale * moment_curvature * va[0], scale * moment_curvature * va[1],
                           scale * moment_curvature * va[2]};
     const double p1 = scale * (N[0] * a.r1 + N[2] * a.r2), p2 = scale * (N[1] * a.r2 + N[2] * a.r1);
-    // The scalar factors of n n^T and of the identity for every column node, once per row node.
-    double normal[kMaxShellNodes], isotropic[kMaxShellNodes];
+    // The scalar factors of n n^T and of the identity for every column node B >= A, once per row node.
     for (int B = A; B < nen; ++B) {
       normal[B] = bs[0] * c.bending[0][B] + bs[1] * c.bending[1][B] + bs[2] * c.bending[2][B] -
                   (mv[0] * c.v[0][B] + mv[1] * c.v[1][B] + mv[2] * c.v[2][B]);
