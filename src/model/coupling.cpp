@@ -67,7 +67,7 @@ Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDisk
   projection_.resize(quad_.size());
   warm_.assign(quad_.size(), std::nullopt);
   last_ = warm_;
-  beam_points_.resize(quad_.size());
+  beam_points_.assign(quad_.size(), Eigen::Vector3d::Zero());
   jump_.assign(quad_.size(), 0.0);
   points_.resize(quad_.size());
 }
