@@ -51,6 +51,8 @@ const Malformed cases[] = {
      "loads[0].function: expected the name of a load function (ramp), got 'slow'"},
     {"continuity_too_high", "continuity: 1", "continuity: 2", "shells[0].refine.continuity: expected an inter-element"},
     {"dt_min_above_dt", "steps: {dt: 0.5}", "steps: {dt: 0.5, dt_min: 1}", "steps.dt_min: expected dt_min <= dt"},
+    {"reuse_out_of_range", "steps: {dt: 0.5}", "steps: {dt: 0.5, reuse_factorization: 1}",
+     "steps.reuse_factorization: expected a number in [0, 1), got 1"},
     {"vector_of_two", "origin: [0, 0, 0]", "origin: [0, 0]",
      "geometry.rectangle.origin: expected a sequence of 3 numbers [x, y, z], got a sequence of 2"},
     {"syntax_error", "steps: {dt: 0.5}", "steps: {dt: 0.5", "YAML syntax error"},
