@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
   fmt::print("| quantity | value |\n|---|---|\n");
   fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
   fmt::print("| matrix non-zeros | {} |\n| factor non-zeros | {} |\n", solver.nnz, solver.factor_nonzeros());
-  fmt::print("| steps / Newton iterations / mean per step | {} / {} / {:.2f} |\n", iterations.size(), pt.tangents,
+  fmt::print("| steps / evaluations with tangent / updates per step | {} / {} / {:.2f} |\n", iterations.size(), pt.tangents,
              mean_iterations);
   fmt::print("| shell assembly per iteration | {:.2f} ms |\n", pt.shell * per);
   fmt::print("| beam assembly per iteration | {:.2f} ms |\n", pt.beam * per);

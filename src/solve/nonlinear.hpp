@@ -39,7 +39,8 @@ struct NewtonOptions {
   // forces), where a purely relative residual test can never be met. 0 disables it.
   double tol_increment = 1e-10;
   // Backtracking: an update after which |r| rose is halved, at most this many times per update, before
-  // Newton goes on from there (0: plain Newton). Each halving costs one evaluation with tangent.
+  // Newton goes on from there (0: plain Newton). Each halving costs one evaluation (with the tangent
+  // unless a factorisation is being reused).
   int line_search = 0;
   // Factorisation reuse (modified Newton; 0: off). Once an update has cut |r| to this fraction or less,
   // the next updates reuse the latest factorisation with residual-only evaluations, as long as each cuts
