@@ -304,6 +304,13 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   out.element = element_at(theta[0], theta[1]);
   out.point = s.r;
   const Eigen::Vector3d D = p - s.r;
+  {
+    Eigen::Matrix2d C;
+    C << s.g1.dot(s.g1) - D.dot(s.g11), s.g1.dot(s.g2) - D.dot(s.g12), s.g1.dot(s.g2) - D.dot(s.g12),
+        s.g2.dot(s.g2) - D.dot(s.g22);
+    const auto eig = relative_curvature(s, C);
+    if (eig.info() == Eigen::Success) out.relative_curvature = eig.eigenvalues()[0];
+  }
   out.distance = D.norm();
   out.normal = out.distance > 0 ? Eigen::Vector3d(D / out.distance) : Eigen::Vector3d::Zero();
   if (!converged) out.where = Projection::Where::failed;

@@ -42,6 +42,10 @@ class ShellProximity {
     double distance = 0;            // d = |r_B - r_S(theta-hat)|
     Eigen::Vector3d point, normal;  // r_S(theta-hat) and n-hat = (r_B - r_S)/d (Eq. 64)
     int iterations = 0;             // Newton iterations on Eq. (63)
+    // Smallest eigenvalue of C_ab relative to g_ab (Eq. C3) at theta-hat: 1 - d kappa along the direction
+    // in which the shell curves most toward the point. Near 0 the shell is bent around the point at a
+    // radius close to the distance, and theta-hat is (nearly) not unique.
+    double relative_curvature = 1;
   };
 
   // Global search then Newton; with `start` (e.g. the previous iteration's theta-hat) Newton starts there

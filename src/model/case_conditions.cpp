@@ -145,8 +145,10 @@ void read_constraint(Model& m, const io::YamlNode& entry) {
     std::vector<int> in_plane;
     for (int c = 0; c < 3; ++c)
       if (c != n) in_plane.push_back(c);
-    for (int cp : boundary_row(m, b, at, 0)) m.constraints.fix(m.dofs.dof(b.block, cp, n));
+    const std::vector<int> row = boundary_row(m, b, at, 0);
+    for (int cp : row) m.constraints.fix(m.dofs.dof(b.block, cp, n));
     tie_rows(m, b, at, in_plane);
+    if (!b.is_beam) m.shells[b.index].mirrors.push_back({n, m.shells[b.index].surface.control_points()[row.front()][n]});
     if (b.is_beam) {
       // Circular sections make a uniform twist a zero-energy mode: the plane fixes the gauge phi = 0,
       // and phi is even about the plane (a rotation about the plane normal is a mirror-invariant

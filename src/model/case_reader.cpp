@@ -122,10 +122,19 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   law.disk_radius = b.section_radius;
   law.plate_thickness = m.shells[shell].section.thickness;
   lj.reject_unknown_keys();
+  double soft_width = 0, soft_below = 0;
+  if (auto soft = node.optional("soft_minimum")) {
+    if (formulation != interaction::Formulation::RF2)
+      soft->fail_message("the soft minimum is implemented for the RF2 formulation only");
+    soft_width = (*soft)["width"].in_range(0.0, 5e-3, true, false);
+    soft_below = soft->has("below") ? (*soft)["below"].positive() : 0.05;
+    soft->reject_unknown_keys();
+  }
   node.reject_unknown_keys();
   for (const auto& c : m.couplings)
     if (c.name() == name) node["name"].fail("an interaction name not used before");
   m.couplings.emplace_back(name, beam, shell, law, formulation, ff_tangent, b, m.shells[shell]);
+  if (soft_width > 0) m.couplings.back().enable_soft_minimum(soft_width, soft_below);
 }
 
 void check_unique_names(const Model& m, const io::YamlNode& root) {

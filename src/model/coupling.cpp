@@ -1,6 +1,7 @@
 #include "model/coupling.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -37,6 +38,12 @@ constexpr double kBranchMargin = 1e-3;
 // the examples, with the beam point; in a diverging attempt both move far).
 constexpr double kJump = 0.1, kJumpRatio = 10;
 
+// Soft-minimum window: half-width 0.6 d_eq (a flat plate's integrand is below exp(-0.166 / width) there:
+// exp(-33) at the largest width allowed, 5e-3) and quadrature cells of half the integrand's width
+// d_eq sqrt(width) (soft_distance tests: 1e-15 d on a flat plate). A window is re-centred after a step
+// in which its point's closest point moved by more than kRecentre of the half-width.
+constexpr double kSoftHalfWidth = 0.6, kRecentre = 0.25;
+
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
   for (int cp = 0; cp < s.num_control_points(); ++cp)
@@ -70,10 +77,37 @@ Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDisk
   beam_points_.assign(quad_.size(), Eigen::Vector3d::Zero());
   jump_.assign(quad_.size(), 0.0);
   points_.resize(quad_.size());
+  soft_of_.assign(quad_.size(), -1);
+}
+
+void Coupling::enable_soft_minimum(double width, double below) {
+  if (formulation_ != interaction::Formulation::RF2)
+    throw std::invalid_argument("Coupling::enable_soft_minimum: RF2 only");
+  soft_width_ = width;
+  soft_below_ = below;
+}
+
+void Coupling::update_soft_windows(const ShellBody& s) {
+  if (soft_requests_.empty()) return;
+  const double d_eq = law_.equilibrium_distance(1.0);
+  for (const auto& [i, centre] : soft_requests_) {
+    interaction::SoftWindow w = interaction::make_soft_window(s.surface, centre, kSoftHalfWidth * d_eq,
+                                                              0.5 * d_eq * std::sqrt(soft_width_), s.mirrors);
+    if (soft_of_[i] < 0) {
+      soft_of_[i] = static_cast<int>(soft_.size());
+      soft_.push_back({i, centre, std::move(w)});
+    } else {
+      soft_[soft_of_[i]].centre = centre;
+      soft_[soft_of_[i]].window = std::move(w);
+    }
+  }
+  soft_requests_.clear();
+  soft_changed_ = true;
 }
 
 bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   proximity_.update(current_points(s, u, dofs));
+  update_soft_windows(s);
   const int n = static_cast<int>(quad_.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < n; ++i) {
@@ -84,7 +118,7 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
     projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
-    if (last_[i] && projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
+    if (last_[i] && soft_of_[i] < 0 && projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
       const double moved = (proximity_.at(r, *last_[i]).point - projection_[i].point).norm();
       if (moved > kJump * projection_[i].distance && moved > kJumpRatio * (r - beam_points_[i]).norm())
         jump_[i] = std::max(jump_[i], moved / projection_[i].distance);
@@ -99,10 +133,14 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
   // element boundary does that at every iteration) do not force a new pattern and a new symbolic
   // factorisation. The pattern is rebuilt only when a point reaches a shell element outside it.
   const int n_u = s.surface.knots(0).num_elements(), n_v = s.surface.knots(1).num_elements();
-  bool changed = false;
+  bool changed = soft_changed_;
+  soft_changed_ = false;
+  auto paired = [&](int i) {  // evaluated with its closest point (not soft)
+    return soft_of_[i] < 0 && projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
+  };
   std::vector<std::pair<int, int>> found;
   for (int i = 0; i < n; ++i)
-    if (projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
+    if (paired(i)) {
       const auto key = std::make_pair(quad_[i].element, projection_[i].element);
       found.push_back(key);
       if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
@@ -121,7 +159,7 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
   }
   pair_points_.assign(pairs_.size(), {});
   for (int i = 0; i < n; ++i) {
-    if (projection_[i].where != interaction::ShellProximity::Projection::Where::interior) continue;
+    if (!paired(i)) continue;
     const auto key = std::make_pair(quad_[i].element, projection_[i].element);
     const auto it = std::lower_bound(pairs_.begin(), pairs_.end(), key);
     pair_points_[it - pairs_.begin()].push_back(i);
@@ -130,6 +168,20 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
 }
 
 void Coupling::accept() {
+  if (soft_width_ > 0) {
+    for (std::size_t i = 0; i < quad_.size(); ++i) {
+      const auto& p = projection_[i];
+      if (p.where != interaction::ShellProximity::Projection::Where::interior) continue;
+      const Eigen::Vector2d theta(p.u, p.v);
+      if (soft_of_[i] < 0) {
+        if (p.relative_curvature < soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
+      } else {
+        const SoftPoint& sp = soft_[soft_of_[i]];
+        if (((theta - sp.centre).array().abs() > kRecentre * sp.window.half_extent.array()).any())
+          soft_requests_.emplace_back(static_cast<int>(i), theta);
+      }
+    }
+  }
   warm_ = last_;
   std::fill(jump_.begin(), jump_.end(), 0.0);
   failed_jumps_.clear();
@@ -139,7 +191,11 @@ void Coupling::reject() {
   last_ = warm_;
   failed_jumps_.clear();
   for (std::size_t i = 0; i < quad_.size(); ++i)
-    if (jump_[i] > 0) failed_jumps_.emplace_back(quad_[i].xi, jump_[i]);
+    if (jump_[i] > 0) {
+      failed_jumps_.emplace_back(quad_[i].xi, jump_[i]);
+      // The soft minimum exists for this: the retry evaluates the point with it.
+      if (soft_width_ > 0 && soft_of_[i] < 0 && warm_[i]) soft_requests_.emplace_back(static_cast<int>(i), *warm_[i]);
+    }
   std::fill(jump_.begin(), jump_.end(), 0.0);
 }
 
@@ -169,6 +225,14 @@ std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const Shell
     for (int cp : b.elements[eb].control_points)
       for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
     for (int cp : s.element_control_points[es])
+      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
+    out.push_back(std::move(d));
+  }
+  for (const SoftPoint& sp : soft_) {
+    std::vector<int> d;
+    for (int cp : b.elements[quad_[sp.point].element].control_points)
+      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
+    for (int cp : sp.window.control_points)
       for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
     out.push_back(std::move(d));
   }
@@ -228,6 +292,42 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
         }
       }
       a.add(first_element + k_pair, r, with_tangent ? &k : nullptr);
+    }
+  }
+  // Soft-minimum points: one element each (the beam element and the window's control points).
+  const int n_soft = static_cast<int>(soft_.size());
+  if (n_soft > 0) {
+    const double beta = 1.0 / (soft_width_ * law_.equilibrium_distance(1.0));
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
+    for (int k = 0; k < n_soft; ++k) {
+      const SoftPoint& sp = soft_[k];
+      const auto& qp = quad_[sp.point];
+      const auto qb = b.current(b.elements[qp.element].control_points, u, dofs);
+      const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
+      const Eigen::Matrix3Xd window_x = s.current(sp.window.control_points, u, dofs);
+      const Eigen::RowVectorXd basis = b.curve.basis(qp.xi, 0).R.row(0);
+      Eigen::VectorXd r;
+      Eigen::MatrixXd kt;
+      try {
+        double e = 0;
+        Eigen::Vector3d f;
+        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, qp.weight, &e,
+                                                         &r, with_tangent ? &kt : nullptr, &f);
+        energy += e;
+        auto& out = points_[sp.point];
+        out.active = true;
+        out.soft = true;
+        out.distance = D;
+        out.energy_density = e / qp.weight;
+        out.force = -f;
+        out.position = beam_x * basis.transpose();
+      } catch (const std::domain_error&) {
+        bad = true;
+        const int n = 4 * static_cast<int>(beam_x.cols()) + 3 * static_cast<int>(window_x.cols());
+        r.setZero(n);
+        if (with_tangent) kt.setZero(n, n);
+      }
+      a.add(first_element + n_pairs + k, r, with_tangent ? &kt : nullptr);
     }
   }
   invalid = bad;

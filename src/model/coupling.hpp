@@ -10,6 +10,7 @@
 
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
+#include "interaction/soft_distance.hpp"
 #include "laws/lennard_jones.hpp"
 #include "solve/forward.hpp"
 
@@ -22,6 +23,7 @@ struct ShellBody;
 struct CouplingPoint {
   double xi = 0, s = 0;        // beam parameter and reference arc length
   bool active = false;         // false: the projection left the shell patch (no interaction)
+  bool soft = false;           // evaluated with the soft minimum (distance = the soft distance D)
   double distance = 0, cos_alpha = 1, energy_density = 0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
@@ -59,6 +61,13 @@ class Coupling {
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.
   std::string failure_hint() const;
 
+  // Soft minimum (interaction/soft_distance.hpp, RF2 only): a beam point whose converged closest point
+  // has relative curvature below `below`, or whose closest point jumped in a failed attempt, is evaluated
+  // from then on with the soft distance of Gibbs width `width` (relative to the law's equilibrium
+  // distance) over a window of the shell around it, fixed during each step.
+  void enable_soft_minimum(double width, double below);
+  int soft_points() const { return static_cast<int>(soft_.size()); }
+
   const std::vector<CouplingPoint>& points() const { return points_; }
   double energy() const { return energy_; }
   Eigen::Vector3d total_force() const;  // integral of the force per length over the beam
@@ -81,6 +90,18 @@ class Coupling {
   std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
   std::vector<CouplingPoint> points_;
   double energy_ = 0;
+
+  struct SoftPoint {
+    int point;                      // index into quad_
+    Eigen::Vector2d centre;         // the window's centre (parameters)
+    interaction::SoftWindow window;
+  };
+  void update_soft_windows(const ShellBody& s);
+  double soft_width_ = 0, soft_below_ = 0;  // width 0: off
+  std::vector<SoftPoint> soft_;
+  std::vector<int> soft_of_;                                   // per quadrature point: index into soft_, or -1
+  std::vector<std::pair<int, Eigen::Vector2d>> soft_requests_;  // (point, centre) to (re)window
+  bool soft_changed_ = false;
 };
 
 }  // namespace fibrane::model

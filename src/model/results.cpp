@@ -105,7 +105,7 @@ io::VtuMesh beam_vtu(const Model& m, const BeamBody& b, int samples) {
 io::VtuMesh coupling_vtu(const Coupling& c) {
   io::VtuMesh mesh;
   io::VtuMesh::Field xi{"xi", 1, {}}, s{"s", 1, {}}, d{"distance", 1, {}}, cos{"cos_alpha", 1, {}},
-      f{"force", 3, {}}, fm{"force_magnitude", 1, {}};
+      f{"force", 3, {}}, fm{"force_magnitude", 1, {}}, soft{"soft_minimum", 1, {}};
   for (const auto& p : c.points()) {
     if (!p.active) continue;
     mesh.add_cell(io::vtk_cell::vertex, {static_cast<int>(mesh.points.size())});
@@ -116,8 +116,10 @@ io::VtuMesh coupling_vtu(const Coupling& c) {
     cos.values.push_back(p.cos_alpha);
     push3(f.values, p.force);
     fm.values.push_back(p.force.norm());
+    soft.values.push_back(p.soft ? 1 : 0);
   }
-  mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm)};
+  mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm),
+                     std::move(soft)};
   return mesh;
 }
 
@@ -207,13 +209,13 @@ double RunOutput::last_value(const std::string& column) const {
 }
 
 void RunOutput::write_coupling_csv(const Coupling& c, int step) const {
-  std::string text = "xi,s,active,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density\n";
+  std::string text = "xi,s,active,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density,soft_minimum\n";
   for (const auto& p : c.points())
-    text += fmt::format("{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
                         p.active ? 1 : 0, io::format_double(p.distance), io::format_double(p.cos_alpha),
                         io::format_double(p.force.x()), io::format_double(p.force.y()),
                         io::format_double(p.force.z()), io::format_double(p.force.norm()),
-                        io::format_double(p.energy_density));
+                        io::format_double(p.energy_density), p.soft ? 1 : 0);
   io::write_file_atomic(
       (std::filesystem::path(dir_) / "interaction" / fmt::format("{}_{:06d}.csv", c.name(), step)).string(), text);
 }
@@ -229,6 +231,10 @@ void RunOutput::write_summary(const Model& m, const solve::ContinuationResult& r
   io::JsonValue monitors = io::JsonValue::object();
   for (const auto& mon : m.monitors) monitors.set(mon.name, m.monitor_value(mon));
   j.set("final_monitors", std::move(monitors));
+  io::JsonValue soft = io::JsonValue::object();
+  for (const auto& c : m.couplings)
+    if (c.soft_points() > 0) soft.set(c.name(), c.soft_points());
+  j.set("soft_minimum_points", std::move(soft));
   io::write_file_atomic((std::filesystem::path(dir_) / "summary.json").string(), j.dump(2) + "\n");
 }
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "shell/kl_shell.hpp"
+#include "interaction/soft_distance.hpp"
 #include "spline/surface.hpp"
 #include "solve/forward.hpp"
 
@@ -19,6 +20,8 @@ struct ShellBody {
   int gauss_points[2] = {0, 0};  // per direction; 0 means degree + 1 (the paper's choice)
   std::vector<spline::SurfaceElement> elements;
   std::vector<std::vector<int>> element_control_points;
+  // Mirror planes of the modelled part (its symmetry constraints): the soft minimum counts the images.
+  std::vector<interaction::MirrorPlane> mirrors;
 
   ShellBody(std::string name, spline::NurbsSurface surface, shell::ShellSection section);
   int num_control_points() const { return surface.num_control_points(); }

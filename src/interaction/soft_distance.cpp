@@ -1,0 +1,220 @@
+#include "interaction/soft_distance.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "spline/quadrature.hpp"
+
+namespace fibrane::interaction {
+namespace {
+
+// Samples whose normalised weight is below this are left out of the gradient and the Hessian (their share
+// of I is below round-off).
+constexpr double kNegligible = 1e-18;
+
+// ln I_plate(D) = ln(2 pi) - beta D + ln(D / beta + 1 / beta^2) and its first two derivatives.
+struct PlateLog {
+  double value, d1, d2;
+};
+PlateLog plate_log(double beta, double D) {
+  const double a = D + 1.0 / beta;
+  return {std::log(2.0 * std::numbers::pi) - beta * D + std::log(a / beta), -beta + 1.0 / a, -1.0 / (a * a)};
+}
+
+// The D > 0 with ln I_plate(D) = log_integral. ln I_plate falls monotonically (slope between -beta and
+// -beta + 1 / D) and is nearly linear, so Newton converges in a few steps from the nearest sample.
+double plate_distance(double beta, double log_integral, double start) {
+  double D = start;
+  for (int it = 0; it < 100; ++it) {
+    const PlateLog f = plate_log(beta, D);
+    const double step = (f.value - log_integral) / f.d1;
+    D = std::max(D - step, 0.5 * D);
+    if (std::abs(step) <= 1e-15 * D) return D;
+  }
+  throw std::runtime_error("soft_distance: the plate-equivalent distance did not converge");
+}
+
+}  // namespace
+
+SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Vector2d& centre, double half_width,
+                            double cell, const std::vector<MirrorPlane>& mirrors) {
+  if (!(half_width > 0) || !(cell > 0)) throw std::invalid_argument("make_soft_window: sizes must be positive");
+  const auto& X = surface.control_points();
+  auto tangents = [&](const spline::SurfaceBasis& b) {
+    Eigen::Matrix<double, 3, 3> t = Eigen::Matrix3d::Zero();  // X, X_u, X_v
+    for (std::size_t a = 0; a < b.indices.size(); ++a)
+      for (int r = 0; r < 3; ++r) t.col(r) += b.R(r, a) * X[b.indices[a]];
+    return t;
+  };
+  const Eigen::Matrix3d at_centre = tangents(surface.basis(centre[0], centre[1]));
+  const double hu = half_width / at_centre.col(1).norm(), hv = half_width / at_centre.col(2).norm();
+
+  SoftWindow w;
+  w.half_extent = {hu, hv};
+  w.basis_size = (surface.degree(0) + 1) * (surface.degree(1) + 1);
+  std::vector<int> local_of(surface.num_control_points(), -1);
+  const auto gauss = spline::gauss_legendre(3);
+  for (const spline::SurfaceElement& e : surface.elements()) {
+    if (e.u1 < centre[0] - hu || e.u0 > centre[0] + hu || e.v1 < centre[1] - hv || e.v0 > centre[1] + hv) continue;
+    const Eigen::Matrix3d mid = tangents(surface.basis_in(e.span_u, e.span_v, 0.5 * (e.u0 + e.u1), 0.5 * (e.v0 + e.v1)));
+    const int nu = std::max(1, static_cast<int>(std::ceil((e.u1 - e.u0) * mid.col(1).norm() / cell)));
+    const int nv = std::max(1, static_cast<int>(std::ceil((e.v1 - e.v0) * mid.col(2).norm() / cell)));
+    const double du = (e.u1 - e.u0) / nu, dv = (e.v1 - e.v0) / nv;
+    for (int cv = 0; cv < nv; ++cv)
+      for (int cu = 0; cu < nu; ++cu)
+        for (std::size_t qv = 0; qv < gauss.points.size(); ++qv)
+          for (std::size_t qu = 0; qu < gauss.points.size(); ++qu) {
+            const double u = e.u0 + du * (cu + 0.5 * (gauss.points[qu] + 1.0));
+            const double v = e.v0 + dv * (cv + 0.5 * (gauss.points[qv] + 1.0));
+            const spline::SurfaceBasis b = surface.basis_in(e.span_u, e.span_v, u, v);
+            const Eigen::Matrix3d t = tangents(b);
+            w.weight.push_back(gauss.weights[qu] * gauss.weights[qv] * 0.25 * du * dv *
+                               t.col(1).cross(t.col(2)).norm());
+            for (std::size_t a = 0; a < b.indices.size(); ++a) {
+              int& l = local_of[b.indices[a]];
+              if (l < 0) {
+                l = static_cast<int>(w.control_points.size());
+                w.control_points.push_back(b.indices[a]);
+              }
+              w.local.push_back(l);
+              w.basis.push_back(b.R(0, a));
+            }
+          }
+  }
+  // Images: the identity and the mirror images across every subset of the planes near the centre.
+  std::vector<MirrorPlane> near;
+  for (const MirrorPlane& m : mirrors)
+    if (std::abs(at_centre(m.axis, 0) - m.offset) < 2.0 * half_width) near.push_back(m);
+  for (unsigned mask = 0; mask < (1u << near.size()); ++mask) {
+    ShellImage image;
+    for (std::size_t k = 0; k < near.size(); ++k)
+      if (mask & (1u << k)) {
+        // x -> reflection across x[axis] = offset, composed with the others (distinct planes commute
+        // when their normals are coordinate axes).
+        Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+        R(near[k].axis, near[k].axis) = -1;
+        Eigen::Vector3d c = Eigen::Vector3d::Zero();
+        c[near[k].axis] = 2.0 * near[k].offset;
+        image.S = R * image.S;
+        image.c = R * image.c + c;
+      }
+    w.images.push_back(image);
+  }
+  return w;
+}
+
+SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
+                           const SoftWindow& window, const Eigen::Matrix3Xd& window_x, bool with_hessian) {
+  const int nb = static_cast<int>(beam_basis.size()), nw = static_cast<int>(window.control_points.size());
+  if (beam_x.cols() != nb || window_x.cols() != nw || window.num_samples() == 0)
+    throw std::invalid_argument("soft_distance: basis, control point and window sizes differ");
+  const int n = 4 * nb + 3 * nw, k = window.basis_size;
+  const int n_images = static_cast<int>(window.images.size());
+  const Eigen::Vector3d rb = beam_x * beam_basis.transpose();
+
+  // Pass 1: the distance of every sample (in every image) and the integral, scaled by the nearest.
+  const int ns = window.num_samples() * n_images;
+  std::vector<double> dist(ns);
+  std::vector<Eigen::Vector3d> unit(ns);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < window.num_samples(); ++s) {
+    Eigen::Vector3d r = Eigen::Vector3d::Zero();
+    for (int a = 0; a < k; ++a) r += window.basis[s * k + a] * window_x.col(window.local[s * k + a]);
+    for (int m = 0; m < n_images; ++m) {
+      const Eigen::Vector3d e = rb - (window.images[m].S * r + window.images[m].c);
+      const int i = s * n_images + m;
+      dist[i] = e.norm();
+      unit[i] = e / dist[i];
+      nearest = std::min(nearest, dist[i]);
+    }
+  }
+  if (!(nearest > 0)) throw std::domain_error("soft_distance: beam point on the shell mid-surface");
+  double Z = 0;
+  std::vector<double> W(ns);
+  for (int i = 0; i < ns; ++i) Z += W[i] = window.weight[i / n_images] * std::exp(-beta * (dist[i] - nearest));
+  for (double& x : W) x /= Z;
+  const double log_integral = std::log(Z) - beta * nearest;
+
+  SoftDistance out;
+  out.nearest = nearest;
+  out.distance = plate_distance(beta, log_integral, nearest);
+  const PlateLog F = plate_log(beta, out.distance);
+
+  // Pass 2: m = sum W grad d (grad ln I = -beta m) and, for the Hessian,
+  //   H_lnI = -beta sum W (grad^2 d - beta grad d grad d^T) - beta^2 m m^T,
+  // with grad^2 d - beta grad d grad d^T = [M, -M S; -S M, S M S] in (r_B, shell point), M = P / d - beta n n^T.
+  Eigen::VectorXd m = Eigen::VectorXd::Zero(n);
+  Eigen::Matrix3d Mbb = Eigen::Matrix3d::Zero();
+  std::vector<Eigen::Matrix3d> Mbw(with_hessian ? nw : 0, Eigen::Matrix3d::Zero());
+  Eigen::MatrixXd Hww = with_hessian ? Eigen::MatrixXd::Zero(3 * nw, 3 * nw) : Eigen::MatrixXd();
+  Eigen::Vector3d mb = Eigen::Vector3d::Zero();
+  for (int i = 0; i < ns; ++i) {
+    if (W[i] < kNegligible) continue;
+    const int s = i / n_images;
+    const ShellImage& image = window.images[i % n_images];
+    const Eigen::Vector3d& nn = unit[i];
+    const Eigen::Vector3d sn = image.S.transpose() * nn;
+    mb += W[i] * nn;
+    for (int a = 0; a < k; ++a) m.segment<3>(4 * nb + 3 * window.local[s * k + a]) -= (W[i] * window.basis[s * k + a]) * sn;
+    if (!with_hessian) continue;
+    const Eigen::Matrix3d M =
+        W[i] * ((Eigen::Matrix3d::Identity() - nn * nn.transpose()) / dist[i] - beta * nn * nn.transpose());
+    const Eigen::Matrix3d MS = M * image.S, SMS = image.S.transpose() * MS;
+    Mbb += M;
+    for (int a = 0; a < k; ++a) {
+      const int la = window.local[s * k + a];
+      const double Na = window.basis[s * k + a];
+      Mbw[la] -= Na * MS;
+      for (int b = 0; b < k; ++b)
+        Hww.block<3, 3>(3 * la, 3 * window.local[s * k + b]) += (Na * window.basis[s * k + b]) * SMS;
+    }
+  }
+  for (int j = 0; j < nb; ++j) m.segment<3>(4 * j) = beam_basis[j] * mb;
+
+  // grad D = grad ln I / F'(D); H_D = (H_lnI - F''(D) grad D grad D^T) / F'(D).
+  out.gradient = (-beta / F.d1) * m;
+  out.direction = (-beta / F.d1) * mb;
+  if (with_hessian) {
+    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+    for (int i = 0; i < nb; ++i) {
+      for (int j = 0; j < nb; ++j) H.block<3, 3>(4 * i, 4 * j) = (beam_basis[i] * beam_basis[j]) * Mbb;
+      for (int a = 0; a < nw; ++a) {
+        H.block<3, 3>(4 * i, 4 * nb + 3 * a) = beam_basis[i] * Mbw[a];
+        H.block<3, 3>(4 * nb + 3 * a, 4 * i) = beam_basis[i] * Mbw[a].transpose();
+      }
+    }
+    H.bottomRightCorner(3 * nw, 3 * nw) = Hww;
+    H *= -beta;
+    H.noalias() -= (beta * beta) * m * m.transpose();
+    H.noalias() -= F.d2 * out.gradient * out.gradient.transpose();
+    out.hessian = H / F.d1;
+  }
+  return out;
+}
+
+double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
+                          const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
+                          double weight, double* energy, Eigen::VectorXd* residual, Eigen::MatrixXd* tangent,
+                          Eigen::Vector3d* force) {
+  const SoftDistance D = soft_distance(beta, beam_basis, beam_x, window, window_x, tangent != nullptr);
+  const laws::LawValue phi = law.evaluate(D.distance, 1.0);
+  const Eigen::Index n = D.gradient.size();
+  if (energy != nullptr) *energy += weight * phi.value;
+  if (residual != nullptr) {
+    if (residual->size() == 0) residual->setZero(n);
+    if (residual->size() != n) throw std::invalid_argument("add_soft_rf2_point: residual size");
+    *residual += (weight * phi.d_d) * D.gradient;
+  }
+  if (tangent != nullptr) {
+    if (tangent->size() == 0) tangent->setZero(n, n);
+    if (tangent->rows() != n || tangent->cols() != n) throw std::invalid_argument("add_soft_rf2_point: tangent size");
+    tangent->noalias() += (weight * phi.d_dd) * D.gradient * D.gradient.transpose();
+    *tangent += (weight * phi.d_d) * D.hessian;
+  }
+  if (force != nullptr) *force = phi.d_d * D.direction;
+  return D.distance;
+}
+
+}  // namespace fibrane::interaction

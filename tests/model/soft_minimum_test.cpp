@@ -1,0 +1,109 @@
+// The soft minimum in the model (interactions[].soft_minimum, interaction/soft_distance.hpp): its
+// elements in the sparse pattern and its tangent against central differences, its input checks, and the
+// bending example, which stalls at the fiber's end without it, reaching t = 1 with it.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "case_runner.hpp"
+#include "common/error.hpp"
+
+namespace fibrane::testing {
+namespace {
+
+// The beam of tests/model/coupled_tangent_test.cpp over its cylindrical panel; `soft` is inserted into
+// the interaction's map.
+std::string panel_case(const std::string& soft) {
+  return R"(
+shells:
+  - name: panel
+    geometry: {cylinder: {radius: 3, length: 2, angles: [60, 120]}}
+    refine: {degree: 3, continuity: 2, elements: [4, 3]}
+    thickness: 0.5
+    material: {young: 1000, poisson: 0.3}
+beams:
+  - name: fiber
+    geometry: {line: {from: [0.2, 0.1, 3.86], to: [1.8, -0.2, 3.9]}}
+    refine: {degree: 3, continuity: 2, elements: 4}
+    material: {young: 1000, poisson: 0.3}
+    section: {circle: {radius: 0.5}}
+interactions:
+  - {beam: fiber, shell: panel, lennard_jones: {epsilon: 50, sigma: 0.05})" + soft + R"(}
+constraints:
+  - {body: panel, at: {edge: v0}, fix: [x, y, z]}
+  - {body: panel, at: {edge: v0}, clamp: true}
+  - {body: fiber, at: {end: start}, fix: [twist]}
+)";
+}
+
+// `below: 2` switches every point (the panel is convex toward the beam: relative curvature 1 + d / R) at
+// the first accepted state; the next evaluation has one soft element per beam point, each coupling its
+// beam element with every control point of its window. Tolerance as the coupled tangent test (h = 1e-7:
+// round-off ~1e-9 relative, truncation ~ h^2 beta^2 ~ 1e-14 / (5e-3 0.78)^2 ~ 1e-9).
+TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
+  const auto dir = fresh_directory("soft-minimum-tangent");
+  std::ofstream(dir / "case.yaml") << panel_case(", soft_minimum: {width: 5.0e-3, below: 2}");
+  auto c = model::read_case((dir / "case.yaml").string());
+  auto& m = *c.model;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  Eigen::VectorXd q(m.size());
+  for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
+  m.evaluate(q, 1.0, true);
+  ASSERT_EQ(m.couplings[0].soft_points(), 0);
+  m.accept(q, 1.0);
+  m.evaluate(q, 1.0, true);
+  const int soft = m.couplings[0].soft_points();
+  EXPECT_GT(soft, 10);
+  for (const auto& p : m.couplings[0].points())
+    if (p.soft) EXPECT_TRUE(p.active);
+  const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
+  const Eigen::MatrixXd Kfd = finite_difference_tangent(m, q, 1.0, 1e-7);
+  Eigen::Index bi, bj;
+  const double worst = (K - Kfd).cwiseAbs().maxCoeff(&bi, &bj);
+  EXPECT_LT(worst / K.cwiseAbs().maxCoeff(), 1e-6) << "entry (" << bi << ", " << bj << ")";
+}
+
+void expect_input_error(const std::string& name, const std::string& soft, const std::string& message) {
+  const auto dir = fresh_directory("soft-minimum-" + name);
+  std::ofstream(dir / "case.yaml") << panel_case(soft);
+  try {
+    model::read_case((dir / "case.yaml").string());
+    FAIL() << name << ": must be rejected";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+  }
+}
+
+TEST(SoftMinimum, BadInputIsRejected) {
+  expect_input_error("ff", ", formulation: FF, soft_minimum: {width: 1.0e-3}",
+                     "soft_minimum: the soft minimum is implemented for the RF2 formulation only");
+  expect_input_error("wide", ", soft_minimum: {width: 0.01}",
+                     "soft_minimum.width: expected a number in (0, 0.005], got 0.01");
+  expect_input_error("below", ", soft_minimum: {width: 1.0e-3, below: 0}",
+                     "soft_minimum.below: expected a positive number, got 0");
+}
+
+// 32x8x8 stalls at t ~ 0.89 without the soft minimum (BendingExample.StallAtTheFibersEnd...); with the
+// example's soft minimum it reaches t = 1, and only points at the fiber's end (the last element's) switch.
+// (~5 s on one thread.)
+TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
+  const auto r = run_yaml("bending-soft", example_text("bending.yaml", {
+      {"elements: [100, 100]", "elements: [8, 8]"},
+      {"elements: 400", "elements: 32"},
+      {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
+  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  EXPECT_NEAR(r.history.at("t").back(), 1.0, 1e-12);
+  const auto& coupling = r.c.model->couplings[0];
+  EXPECT_GE(coupling.soft_points(), 1);
+  for (const auto& p : coupling.points())
+    if (p.soft) EXPECT_GT(p.xi, 1.0 - 1.0 / 32) << "a soft point away from the fiber's end";
+  // The fiber stays adhered and bends the shell into an arch (as the 40x10x10 test).
+  const auto& energy = r.history.at("adhesion_energy");
+  for (double e : energy) EXPECT_GT(e / energy.front(), 0.98);
+  EXPECT_LT(r.history.at("end_uy").back(), -0.7);
+  EXPECT_LT(r.history.at("shell_corner_uz").back(), r.history.at("end_uz").back() - 0.5);
+}
+
+}  // namespace
+}  // namespace fibrane::testing
