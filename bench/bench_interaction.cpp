@@ -1,13 +1,15 @@
 // Cost of the beam-shell interaction building blocks (src/interaction): one SBS pair point (energy +
 // residual + tangent) for RF2 / RF1 / FF-with-RF1-tangent / FF-exact at nB = 5 (quartic beam element) and
 // nS = 25 (quartic shell element), and one closest-point projection on a 20 x 20 quartic patch, cold
-// (global search + Newton) and warm-started from a nearby previous foot point.
+// (global search + Newton) and warm-started from a nearby previous foot point; one soft-minimum point
+// (energy + residual + tangent, and the window's construction) at the bending example's paper mesh.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
+#include "interaction/soft_distance.hpp"
 #include "spline/shapes.hpp"
 #include "spline/surface_third.hpp"
 
@@ -91,6 +93,54 @@ void BM_ProximityUpdate(benchmark::State& state) {
   for (auto _ : state) prox.update(s.control_points());
 }
 BENCHMARK(BM_ProximityUpdate)->Unit(benchmark::kMicrosecond);
+
+// One soft-minimum point as in the bending example at the paper's mesh: the quarter plate [0, 5]^2 with
+// 100 x 100 quartic C1 elements and its mirror plane x = 0, the point in the mirror plane at the RF2
+// equilibrium distance of the example's law (d_eq = 0.782), window and cells as src/model/coupling.cpp
+// makes them (half-width 0.6 d_eq, cells 0.5 d_eq sqrt(width)); argument: width x 1e4.
+struct SoftSetup {
+  laws::LennardJonesDiskPlate law{6400, 0.05, 0.5, 0.5, 1, 1, 400};
+  spline::NurbsSurface plate = spline::make_rectangle({0, 0, 0}, {5, 0, 0}, {0, 5, 0});
+  Eigen::RowVectorXd basis = bernstein4(0.3).row(0);
+  Eigen::Matrix3Xd beam_x = Eigen::Matrix3Xd(3, 5);
+  double d_eq = 0, width = 0;
+  explicit SoftSetup(double w) : width(w) {
+    plate.refine(0, 4, 1, 100);
+    plate.refine(1, 4, 1, 100);
+    d_eq = law.equilibrium_distance(1.0);
+    for (int i = 0; i < 5; ++i) beam_x.col(i) = Eigen::Vector3d(0, 2.6 + 0.1 * i, d_eq);
+  }
+  interaction::SoftWindow window() const {
+    return interaction::make_soft_window(plate, {0.0, 0.6}, 0.6 * d_eq, 0.5 * d_eq * std::sqrt(width),
+                                         {interaction::MirrorPlane{0, 0.0}});
+  }
+};
+
+void BM_SoftPoint(benchmark::State& state) {
+  const SoftSetup setup(state.range(0) * 1e-4);
+  const interaction::SoftWindow w = setup.window();
+  Eigen::Matrix3Xd x(3, w.control_points.size());
+  for (std::size_t a = 0; a < w.control_points.size(); ++a) x.col(a) = setup.plate.control_points()[w.control_points[a]];
+  const double beta = 1.0 / (setup.width * setup.d_eq);
+  Eigen::VectorXd r;
+  Eigen::MatrixXd k;
+  for (auto _ : state) {
+    double e = 0;
+    r.resize(0);
+    k.resize(0, 0);
+    interaction::add_soft_rf2_point(setup.law, beta, setup.basis, setup.beam_x, w, x, 0.0, 0.01, &e, &r, &k);
+    benchmark::DoNotOptimize(k.data());
+  }
+  state.counters["samples"] = w.num_samples();
+  state.counters["window_points"] = static_cast<double>(w.control_points.size());
+}
+BENCHMARK(BM_SoftPoint)->ArgName("width_1e4")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond);
+
+void BM_SoftWindow(benchmark::State& state) {
+  const SoftSetup setup(state.range(0) * 1e-4);
+  for (auto _ : state) benchmark::DoNotOptimize(setup.window().weight.data());
+}
+BENCHMARK(BM_SoftWindow)->ArgName("width_1e4")->Arg(5)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

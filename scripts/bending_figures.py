@@ -192,6 +192,44 @@ def figures(results, figdir, quick):
     plot_end_distributions(curves, 0.002, figdir / "bending_fig26_strengths.png", clip=600)
 
 
+def final_state(directory):
+    """The numbers docs/examples.md quotes for a finished run: the fiber's shape from its last VTK file (end
+    angle from the end tangent, sagitta = z(middle) - z(end)), the monitors, and from the last interaction CSV
+    the signed end force, the largest attraction, and the arc length over which the attraction exceeds 95 %
+    of that."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+    h = read_csv(directory / "history.csv")
+    reader = vtkXMLUnstructuredGridReader()
+    reader.SetFileName(str(sorted((directory / "vtk").glob("fiber_*.vtu"))[-1]))
+    reader.Update()
+    xyz = vtk_to_numpy(reader.GetOutput().GetPoints().GetData())
+    tangent = vtk_to_numpy(reader.GetOutput().GetPointData().GetArray("tangent"))[-1]
+    last = int(h["step"][-1])
+    p = read_csv(directory / "interaction" / f"adhesion_{last:06d}.csv")
+    f = normal_force(p)
+    strong = p["s"][f < 0.95 * f.min()]
+    return {"t": h["t"][-1], "end angle [deg]": np.degrees(np.arctan2(-tangent[2], tangent[1])),
+            "end u_y": h["end_uy"][-1], "end u_z": h["end_uz"][-1], "fiber middle z": xyz[0, 2],
+            "sagitta": xyz[0, 2] - xyz[-1, 2], "shell edge u_z": h["shell_corner_uz"][-1],
+            "adhesion energy change [%]": 100 * (h["adhesion_energy"][-1] / h["adhesion_energy"][0] - 1),
+            "end force": f[-1], "largest attraction": -f.min(),
+            "attraction > 95 % over s": f"[{strong.min():.2f}, {strong.max():.2f}]" if strong.size else "-",
+            "soft points": int(p["soft_minimum"].sum()) if "soft_minimum" in p else 0}
+
+
+def print_final_states(results, quick):
+    names = [f"mesh_{m}" for m in (QUICK_MESHES if quick else MESHES)] + [f"strength_{s}" for s in STRENGTHS if s != "1"]
+    rows = {n: final_state(run_dir(results, n, quick, started=True)) for n in names
+            if (run_dir(results, n, quick, started=True) / "history.csv").exists()}
+    if not rows:
+        return
+    keys = list(next(iter(rows.values())))
+    print("| run | " + " | ".join(keys) + " |\n|---|" + "---|" * len(keys))
+    for n, r in rows.items():
+        print(f"| {n} | " + " | ".join(f"{v:.5g}" if isinstance(v, float) else str(v) for v in r.values()) + " |")
+
+
 def shell_section_forces(directory, figdir):
     """Fig. 25: every point-data array of the last shell VTK file, drawn over the reference plane."""
     try:
@@ -239,6 +277,7 @@ def main():
         print(f"running {len(todo)} variants with {args.fibrane} ({args.jobs} at a time) into {results}")
         fibrane_runs.run_all(todo, lambda n, e: run_variant(n, e, results, args.fibrane, args.quick), args.jobs)
     figures(results, figdir, args.quick)
+    print_final_states(results, args.quick)
 
 
 if __name__ == "__main__":

@@ -196,10 +196,10 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
 
 double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
-                          double weight, double* energy, Eigen::VectorXd* residual, Eigen::MatrixXd* tangent,
-                          Eigen::Vector3d* force) {
+                          double offset, double weight, double* energy, Eigen::VectorXd* residual,
+                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force) {
   const SoftDistance D = soft_distance(beta, beam_basis, beam_x, window, window_x, tangent != nullptr);
-  const laws::LawValue phi = law.evaluate(D.distance, 1.0);
+  const laws::LawValue phi = law.evaluate(D.distance + offset, 1.0);
   const Eigen::Index n = D.gradient.size();
   if (energy != nullptr) *energy += weight * phi.value;
   if (residual != nullptr) {
@@ -214,7 +214,7 @@ double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, c
     *tangent += (weight * phi.d_d) * D.hessian;
   }
   if (force != nullptr) *force = phi.d_d * D.direction;
-  return D.distance;
+  return D.distance + offset;
 }
 
 }  // namespace fibrane::interaction

@@ -77,13 +77,15 @@ struct SoftDistance {
 SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
                            const SoftWindow& window, const Eigen::Matrix3Xd& window_x, bool with_hessian);
 
-// RF2 with the soft distance: adds weight phi(D, 1) to *energy, its gradient to *residual and its
-// Hessian to *tangent (each may be null; residual / tangent empty or of the local size, accumulated).
-// Returns D; `force` gets the force per length on the beam's side in the sign convention of
-// add_sbs_point (phi_,d dD/dr_B). Throws std::domain_error if the law rejects D (overlap).
+// RF2 with the soft distance shifted by a constant: adds weight phi(D + offset, 1) to *energy, its
+// gradient to *residual and its Hessian to *tangent (each may be null; residual / tangent empty or of
+// the local size, accumulated). Returns D + offset; `force` gets the force per length on the beam's side
+// in the sign convention of add_sbs_point (phi_,d dD/dr_B). Throws std::domain_error if the law rejects
+// D + offset (overlap). (The offset lets a point switch from d to the soft distance without a jump: the
+// caller sets it to d - D at the state where it switches.)
 double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
-                          double weight, double* energy, Eigen::VectorXd* residual, Eigen::MatrixXd* tangent,
-                          Eigen::Vector3d* force = nullptr);
+                          double offset, double weight, double* energy, Eigen::VectorXd* residual,
+                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force = nullptr);
 
 }  // namespace fibrane::interaction

@@ -87,6 +87,14 @@ void Coupling::enable_soft_minimum(double width, double below) {
   soft_below_ = below;
 }
 
+double Coupling::beta() const { return 1.0 / (soft_width_ * law_.equilibrium_distance(1.0)); }
+
+Eigen::Vector3d Coupling::beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const {
+  const auto& qp = quad_[i];
+  return b.current(b.elements[qp.element].control_points, u, dofs).topRows<3>() *
+         b.curve.basis(qp.xi, 0).R.row(0).transpose();
+}
+
 void Coupling::update_soft_windows(const ShellBody& s) {
   if (soft_requests_.empty()) return;
   const double d_eq = law_.equilibrium_distance(1.0);
@@ -111,10 +119,7 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
   const int n = static_cast<int>(quad_.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < n; ++i) {
-    const auto& qp = quad_[i];
-    const auto q = b.current(b.elements[qp.element].control_points, u, dofs);
-    const auto basis = b.curve.basis(qp.xi, 0);
-    const Eigen::Vector3d r = q.topRows<3>() * basis.R.row(0).transpose();
+    const Eigen::Vector3d r = beam_point(b, i, u, dofs);
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
     projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
@@ -127,6 +132,20 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
+  }
+  // A point that has just switched to the soft minimum: its offset makes phi(D + offset) = phi(d) here,
+  // with d from the branch it was on (a local projection from its window's centre).
+  for (SoftPoint& sp : soft_) {
+    if (sp.calibrated) continue;
+    const Eigen::Vector3d r = beam_point(b, sp.point, u, dofs);
+    const auto branch = proximity_.project(r, sp.centre, 1.0);
+    const auto& qp = quad_[sp.point];
+    const Eigen::Matrix3Xd beam_x = b.current(b.elements[qp.element].control_points, u, dofs).topRows<3>();
+    const double D = interaction::soft_distance(beta(), b.curve.basis(qp.xi, 0).R.row(0), beam_x, sp.window,
+                                                s.current(sp.window.control_points, u, dofs), false)
+                         .distance;
+    sp.offset = branch.where == interaction::ShellProximity::Projection::Where::interior ? branch.distance - D : 0.0;
+    sp.calibrated = true;
   }
   // The sparsity pattern holds, for each beam element, the shell elements around the ones its points
   // project onto (a 3 x 3 block), so that points sliding across a shell element edge (a beam lying on an
@@ -212,8 +231,11 @@ std::string Coupling::failure_hint() const {
       "In the last attempt the closest points of {} beam point(s) of '{}' (xi = {}) jumped across the shell "
       "(by up to {:.2g} times the distance) while the points barely moved: two shell regions are nearly "
       "equally close there, and the closest-point SBS residual is discontinuous (docs/examples.md, "
-      "\"The beam end and the closest-point projection\")",
-      failed_jumps_.size(), name_, xi, largest);
+      "\"The beam end and the closest-point projection\"){}",
+      failed_jumps_.size(), name_, xi, largest,
+      soft_width_ > 0 ? ""
+                      : ". An RF2 interaction's 'soft_minimum' key evaluates such points with a smooth "
+                        "soft-minimum distance (docs/interaction.md, section 7)");
 }
 
 std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const ShellBody& s,
@@ -297,7 +319,7 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
   // Soft-minimum points: one element each (the beam element and the window's control points).
   const int n_soft = static_cast<int>(soft_.size());
   if (n_soft > 0) {
-    const double beta = 1.0 / (soft_width_ * law_.equilibrium_distance(1.0));
+    const double beta = this->beta();
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
     for (int k = 0; k < n_soft; ++k) {
       const SoftPoint& sp = soft_[k];
@@ -311,7 +333,7 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
       try {
         double e = 0;
         Eigen::Vector3d f;
-        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, qp.weight, &e,
+        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, sp.offset, qp.weight, &e,
                                                          &r, with_tangent ? &kt : nullptr, &f);
         energy += e;
         auto& out = points_[sp.point];

@@ -95,7 +95,13 @@ class Coupling {
     int point;                      // index into quad_
     Eigen::Vector2d centre;         // the window's centre (parameters)
     interaction::SoftWindow window;
+    // d - D at the first evaluation after the switch (d from the branch the point was on), so that the
+    // energy is continuous across the switch; kept when the window is re-centred (D changes by < e^-30).
+    double offset = 0;
+    bool calibrated = false;
   };
+  double beta() const;  // 1 / (width d_eq)
+  Eigen::Vector3d beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   void update_soft_windows(const ShellBody& s);
   double soft_width_ = 0, soft_below_ = 0;  // width 0: off
   std::vector<SoftPoint> soft_;

@@ -154,7 +154,7 @@ TEST(SoftDistance, GradientAndHessianMatchCentralDifferences) {
   auto rf2 = [&](const Eigen::VectorXd& z, double* e, Eigen::VectorXd* r, Eigen::MatrixXd* k) {
     Eigen::Matrix3Xd bx, wx;
     split(z, bx, wx);
-    add_soft_rf2_point(law, beta, b.basis, bx, w, wx, 0.3, e, r, k);
+    add_soft_rf2_point(law, beta, b.basis, bx, w, wx, 0.01, 0.3, e, r, k);
   };
   double e0 = 0;
   Eigen::VectorXd r0;

@@ -52,6 +52,7 @@ TEST(BendingExample, StallAtTheFibersEndIsExplainedInTheStopMessage) {
   EXPECT_NE(message.find("dt below dt_min"), std::string::npos) << message;
   EXPECT_NE(message.find("jumped across the shell"), std::string::npos) << message;
   EXPECT_NE(message.find("xi = 0.9985"), std::string::npos) << message;
+  EXPECT_NE(message.find("'soft_minimum' key"), std::string::npos) << message;
   EXPECT_GT(r.history.at("t").back(), 0.8);
 }
 

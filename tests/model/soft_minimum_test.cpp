@@ -3,6 +3,7 @@
 // bending example, which stalls at the fiber's end without it, reaching t = 1 with it.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "case_runner.hpp"
@@ -38,7 +39,7 @@ constraints:
 
 // `below: 2` switches every point (the panel is convex toward the beam: relative curvature 1 + d / R) at
 // the first accepted state; the next evaluation has one soft element per beam point, each coupling its
-// beam element with every control point of its window. Tolerance as the coupled tangent test (h = 1e-7:
+// beam element with every control point of its window, and the same interaction energy. Tolerance as the coupled tangent test (h = 1e-7:
 // round-off ~1e-9 relative, truncation ~ h^2 beta^2 ~ 1e-14 / (5e-3 0.78)^2 ~ 1e-9).
 TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
   const auto dir = fresh_directory("soft-minimum-tangent");
@@ -51,10 +52,14 @@ TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
   for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
   m.evaluate(q, 1.0, true);
   ASSERT_EQ(m.couplings[0].soft_points(), 0);
+  const double plain_energy = m.couplings[0].energy();
   m.accept(q, 1.0);
   m.evaluate(q, 1.0, true);
   const int soft = m.couplings[0].soft_points();
   EXPECT_GT(soft, 10);
+  // The switch is continuous: each point's offset makes phi(D + offset) = phi(d) at the state where it
+  // switches (round-off of the sum of ~16 point energies).
+  EXPECT_NEAR(m.couplings[0].energy(), plain_energy, 1e-12 * std::abs(plain_energy));
   for (const auto& p : m.couplings[0].points())
     if (p.soft) EXPECT_TRUE(p.active);
   const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
