@@ -97,7 +97,7 @@ BENCHMARK(BM_ProximityUpdate)->Unit(benchmark::kMicrosecond);
 // One soft-minimum point as in the bending example at the paper's mesh: the quarter plate [0, 5]^2 with
 // 100 x 100 quartic C1 elements and its mirror plane x = 0, the point in the mirror plane at the RF2
 // equilibrium distance of the example's law (d_eq = 0.782), window and cells as src/model/coupling.cpp
-// makes them (half-width 0.6 d_eq, cells 0.5 d_eq sqrt(width)); argument: width x 1e4.
+// makes them (interaction::soft_window_half_width, soft_window_cell); argument: width x 1e4.
 struct SoftSetup {
   laws::LennardJonesDiskPlate law{6400, 0.05, 0.5, 0.5, 1, 1, 400};
   spline::NurbsSurface plate = spline::make_rectangle({0, 0, 0}, {5, 0, 0}, {0, 5, 0});
@@ -111,8 +111,8 @@ struct SoftSetup {
     for (int i = 0; i < 5; ++i) beam_x.col(i) = Eigen::Vector3d(0, 2.6 + 0.1 * i, d_eq);
   }
   interaction::SoftWindow window() const {
-    return interaction::make_soft_window(plate, {0.0, 0.6}, 0.6 * d_eq, 0.5 * d_eq * std::sqrt(width),
-                                         {interaction::MirrorPlane{0, 0.0}});
+    return interaction::make_soft_window(plate, {0.0, 0.6}, interaction::soft_window_half_width(width, d_eq),
+                                         interaction::soft_window_cell(width, d_eq), {interaction::MirrorPlane{0, 0.0}});
   }
 };
 

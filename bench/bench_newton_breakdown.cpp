@@ -44,6 +44,10 @@ class TimedSolver : public fibrane::solve::LinearSolver {
     factorize_ += seconds_since(t0);
     ++factorizations;
     nnz = a.nonZeros();
+    if (first_nnz == 0) {
+      first_nnz = nnz;
+      first_factor_nnz = inner_->factor_nonzeros();
+    }
     return ok;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
@@ -58,7 +62,7 @@ class TimedSolver : public fibrane::solve::LinearSolver {
   double analyze_ = 0, factorize_ = 0;
   mutable double solve_ = 0;
   int analyses = 0, factorizations = 0;
-  long nnz = 0;
+  long nnz = 0, first_nnz = 0, first_factor_nnz = 0;  // last and first factorisation
 
  private:
   std::unique_ptr<fibrane::solve::LinearSolver> inner_;
@@ -142,7 +146,12 @@ int main(int argc, char** argv) {
              solver.name(), omp_get_max_threads());
   fmt::print("| quantity | value |\n|---|---|\n");
   fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
-  fmt::print("| matrix non-zeros | {} |\n| factor non-zeros | {} |\n", solver.nnz, solver.factor_nonzeros());
+  fmt::print("| matrix non-zeros (first / last factorisation) | {} / {} |\n", solver.first_nnz, solver.nnz);
+  fmt::print("| factor non-zeros (first / last factorisation) | {} / {} |\n", solver.first_factor_nnz,
+             solver.factor_nonzeros());
+  std::string soft;
+  for (const auto& cp : m.couplings) soft += fmt::format("{}{}: {}", soft.empty() ? "" : ", ", cp.name(), cp.soft_points());
+  fmt::print("| soft-minimum points at the end | {} |\n", soft.empty() ? "-" : soft);
   fmt::print("| steps / evaluations with tangent / updates per step | {} / {} / {:.2f} |\n", iterations.size(), pt.tangents,
              mean_iterations);
   fmt::print("| shell assembly per iteration | {:.2f} ms |\n", pt.shell * per);

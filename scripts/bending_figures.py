@@ -156,7 +156,7 @@ def figures(results, figdir, quick):
         table.append((m, at_instants(h["t"], h["end_uz"]), at_instants(h["t"], f), len(h["t"]) - 1,
                       int(h["iterations"].sum())))
     ax[0].set(xlabel="t", ylabel="u_z at the beam end", title="a) displacement at the beam end")
-    ax[1].set(xlabel="t", ylabel="interaction force per length at the last Gauss point (+ repulsive)",
+    ax[1].set(xlabel="t", ylabel="force per length, last Gauss point (+ repulsive)",
               title="b) interaction force at the beam end")
     for a in ax:
         a.grid(alpha=0.3)

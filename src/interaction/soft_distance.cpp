@@ -38,6 +38,9 @@ double plate_distance(double beta, double log_integral, double start) {
 
 }  // namespace
 
+double soft_window_half_width(double width, double d_ref) { return (std::sqrt(90.0 * width) + 0.2) * d_ref; }
+double soft_window_cell(double width, double d_ref) { return 0.5 * d_ref * std::sqrt(width); }
+
 SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Vector2d& centre, double half_width,
                             double cell, const std::vector<MirrorPlane>& mirrors) {
   if (!(half_width > 0) || !(cell > 0)) throw std::invalid_argument("make_soft_window: sizes must be positive");
@@ -105,8 +108,23 @@ SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Ve
   return w;
 }
 
-SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
-                           const SoftWindow& window, const Eigen::Matrix3Xd& window_x, bool with_hessian) {
+namespace {
+
+// D, m = sum W_q grad d_q (grad ln I = -beta m) and the two coefficients of D's Hessian,
+//   grad D = a m,  Hess D = a S + c m m^T,  a = -beta / F'(D),  c = -beta^2 (1 + F''(D) / F'(D)^2) / F'(D),
+// with F = ln I_plate and S = sum W_q (Hess d_q - beta grad d_q grad d_q^T), which in (r_B, sample point) is
+// [M, -M S_i; -S_i M, S_i M S_i], M = P / d_q - beta n n^T (S_i the image's reflection). S is block-sparse
+// (per sample: the beam point and the sample's basis functions) and is added, times scale(D, a), straight
+// into *target (n x n, may be null); the dense rank-one part is left to the caller (one pass over n^2).
+struct Parts {
+  SoftDistance d;  // distance, nearest, direction, gradient (hessian left empty)
+  Eigen::VectorXd m;
+  double a = 0, c = 0;
+};
+
+template <class Scale>
+Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
+                 const SoftWindow& window, const Eigen::Matrix3Xd& window_x, Eigen::MatrixXd* target, Scale scale) {
   const int nb = static_cast<int>(beam_basis.size()), nw = static_cast<int>(window.control_points.size());
   if (beam_x.cols() != nb || window_x.cols() != nw || window.num_samples() == 0)
     throw std::invalid_argument("soft_distance: basis, control point and window sizes differ");
@@ -135,20 +153,19 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
   std::vector<double> W(ns);
   for (int i = 0; i < ns; ++i) Z += W[i] = window.weight[i / n_images] * std::exp(-beta * (dist[i] - nearest));
   for (double& x : W) x /= Z;
-  const double log_integral = std::log(Z) - beta * nearest;
 
-  SoftDistance out;
-  out.nearest = nearest;
-  out.distance = plate_distance(beta, log_integral, nearest);
-  const PlateLog F = plate_log(beta, out.distance);
+  Parts out;
+  out.d.nearest = nearest;
+  out.d.distance = plate_distance(beta, std::log(Z) - beta * nearest, nearest);
+  const PlateLog F = plate_log(beta, out.d.distance);
+  out.a = -beta / F.d1;
+  out.c = -beta * beta * (1.0 + F.d2 / (F.d1 * F.d1)) / F.d1;
+  const double factor = target != nullptr ? scale(out.d.distance, out.a) : 0.0;
 
-  // Pass 2: m = sum W grad d (grad ln I = -beta m) and, for the Hessian,
-  //   H_lnI = -beta sum W (grad^2 d - beta grad d grad d^T) - beta^2 m m^T,
-  // with grad^2 d - beta grad d grad d^T = [M, -M S; -S M, S M S] in (r_B, shell point), M = P / d - beta n n^T.
-  Eigen::VectorXd m = Eigen::VectorXd::Zero(n);
+  // Pass 2: m, and factor x S into the target.
+  out.m = Eigen::VectorXd::Zero(n);
   Eigen::Matrix3d Mbb = Eigen::Matrix3d::Zero();
-  std::vector<Eigen::Matrix3d> Mbw(with_hessian ? nw : 0, Eigen::Matrix3d::Zero());
-  Eigen::MatrixXd Hww = with_hessian ? Eigen::MatrixXd::Zero(3 * nw, 3 * nw) : Eigen::MatrixXd();
+  std::vector<Eigen::Matrix3d> Mbw(target != nullptr ? nw : 0, Eigen::Matrix3d::Zero());
   Eigen::Vector3d mb = Eigen::Vector3d::Zero();
   for (int i = 0; i < ns; ++i) {
     if (W[i] < kNegligible) continue;
@@ -157,10 +174,11 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
     const Eigen::Vector3d& nn = unit[i];
     const Eigen::Vector3d sn = image.S.transpose() * nn;
     mb += W[i] * nn;
-    for (int a = 0; a < k; ++a) m.segment<3>(4 * nb + 3 * window.local[s * k + a]) -= (W[i] * window.basis[s * k + a]) * sn;
-    if (!with_hessian) continue;
+    for (int a = 0; a < k; ++a)
+      out.m.segment<3>(4 * nb + 3 * window.local[s * k + a]) -= (W[i] * window.basis[s * k + a]) * sn;
+    if (target == nullptr) continue;
     const Eigen::Matrix3d M =
-        W[i] * ((Eigen::Matrix3d::Identity() - nn * nn.transpose()) / dist[i] - beta * nn * nn.transpose());
+        (factor * W[i]) * ((Eigen::Matrix3d::Identity() - nn * nn.transpose()) / dist[i] - beta * nn * nn.transpose());
     const Eigen::Matrix3d MS = M * image.S, SMS = image.S.transpose() * MS;
     Mbb += M;
     for (int a = 0; a < k; ++a) {
@@ -168,53 +186,74 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
       const double Na = window.basis[s * k + a];
       Mbw[la] -= Na * MS;
       for (int b = 0; b < k; ++b)
-        Hww.block<3, 3>(3 * la, 3 * window.local[s * k + b]) += (Na * window.basis[s * k + b]) * SMS;
+        target->block<3, 3>(4 * nb + 3 * la, 4 * nb + 3 * window.local[s * k + b]) +=
+            (Na * window.basis[s * k + b]) * SMS;
     }
   }
-  for (int j = 0; j < nb; ++j) m.segment<3>(4 * j) = beam_basis[j] * mb;
-
-  // grad D = grad ln I / F'(D); H_D = (H_lnI - F''(D) grad D grad D^T) / F'(D).
-  out.gradient = (-beta / F.d1) * m;
-  out.direction = (-beta / F.d1) * mb;
-  if (with_hessian) {
-    Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
+  for (int j = 0; j < nb; ++j) out.m.segment<3>(4 * j) = beam_basis[j] * mb;
+  if (target != nullptr) {
     for (int i = 0; i < nb; ++i) {
-      for (int j = 0; j < nb; ++j) H.block<3, 3>(4 * i, 4 * j) = (beam_basis[i] * beam_basis[j]) * Mbb;
+      for (int j = 0; j < nb; ++j) target->block<3, 3>(4 * i, 4 * j) += (beam_basis[i] * beam_basis[j]) * Mbb;
       for (int a = 0; a < nw; ++a) {
-        H.block<3, 3>(4 * i, 4 * nb + 3 * a) = beam_basis[i] * Mbw[a];
-        H.block<3, 3>(4 * nb + 3 * a, 4 * i) = beam_basis[i] * Mbw[a].transpose();
+        target->block<3, 3>(4 * i, 4 * nb + 3 * a) += beam_basis[i] * Mbw[a];
+        target->block<3, 3>(4 * nb + 3 * a, 4 * i) += beam_basis[i] * Mbw[a].transpose();
       }
     }
-    H.bottomRightCorner(3 * nw, 3 * nw) = Hww;
-    H *= -beta;
-    H.noalias() -= (beta * beta) * m * m.transpose();
-    H.noalias() -= F.d2 * out.gradient * out.gradient.transpose();
-    out.hessian = H / F.d1;
   }
+  out.d.gradient = out.a * out.m;
+  out.d.direction = out.a * mb;
   return out;
+}
+
+// *m is sized n x n and zeroed when empty; throws if it has another size.
+void prepare(Eigen::MatrixXd* m, Eigen::Index n, const char* what) {
+  if (m->size() == 0) m->setZero(n, n);
+  if (m->rows() != n || m->cols() != n) throw std::invalid_argument(what);
+}
+
+Eigen::Index local_size(const Eigen::RowVectorXd& beam_basis, const SoftWindow& window) {
+  return 4 * beam_basis.size() + 3 * static_cast<Eigen::Index>(window.control_points.size());
+}
+
+}  // namespace
+
+SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
+                           const SoftWindow& window, const Eigen::Matrix3Xd& window_x, bool with_hessian) {
+  Eigen::MatrixXd H;
+  if (with_hessian) prepare(&H, local_size(beam_basis, window), "soft_distance: size");
+  Parts p = soft_parts(beta, beam_basis, beam_x, window, window_x, with_hessian ? &H : nullptr,
+                       [](double, double a) { return a; });
+  if (with_hessian) {
+    H.noalias() += p.c * p.m * p.m.transpose();
+    p.d.hessian = std::move(H);
+  }
+  return p.d;
 }
 
 double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
                           Eigen::MatrixXd* tangent, Eigen::Vector3d* force) {
-  const SoftDistance D = soft_distance(beta, beam_basis, beam_x, window, window_x, tangent != nullptr);
-  const laws::LawValue phi = law.evaluate(D.distance + offset, 1.0);
-  const Eigen::Index n = D.gradient.size();
+  const Eigen::Index n = local_size(beam_basis, window);
+  if (tangent != nullptr) prepare(tangent, n, "add_soft_rf2_point: tangent size");
+  // Hessian of weight phi(D + offset): weight (phi_dd grad D grad D^T + phi_d Hess D)
+  //   = (weight phi_d a) S + weight (phi_dd a^2 + phi_d c) m m^T.
+  laws::LawValue phi{};
+  const Parts p = soft_parts(beta, beam_basis, beam_x, window, window_x, tangent,
+                             [&](double D, double a) {
+                               phi = law.evaluate(D + offset, 1.0);
+                               return weight * phi.d_d * a;
+                             });
+  if (tangent == nullptr) phi = law.evaluate(p.d.distance + offset, 1.0);
   if (energy != nullptr) *energy += weight * phi.value;
   if (residual != nullptr) {
     if (residual->size() == 0) residual->setZero(n);
     if (residual->size() != n) throw std::invalid_argument("add_soft_rf2_point: residual size");
-    *residual += (weight * phi.d_d) * D.gradient;
+    *residual += (weight * phi.d_d) * p.d.gradient;
   }
-  if (tangent != nullptr) {
-    if (tangent->size() == 0) tangent->setZero(n, n);
-    if (tangent->rows() != n || tangent->cols() != n) throw std::invalid_argument("add_soft_rf2_point: tangent size");
-    tangent->noalias() += (weight * phi.d_dd) * D.gradient * D.gradient.transpose();
-    *tangent += (weight * phi.d_d) * D.hessian;
-  }
-  if (force != nullptr) *force = phi.d_d * D.direction;
-  return D.distance + offset;
+  if (tangent != nullptr) tangent->noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
+  if (force != nullptr) *force = phi.d_d * p.d.direction;
+  return p.d.distance + offset;
 }
 
 }  // namespace fibrane::interaction

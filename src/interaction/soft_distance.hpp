@@ -57,6 +57,14 @@ struct SoftWindow {
   int num_samples() const { return static_cast<int>(weight.size()); }
 };
 
+// The window's size for Gibbs width `width` (relative to d_ref): it must hold every shell point whose Gibbs
+// weight exp(-beta (d - d_min)) is above e^-45 (below round-off of the sum): on a flat plate the radius
+// d_ref sqrt(90 width), plus the arc over which a shell wrapped around the point stays at nearly the same
+// distance (+-0.16 d at the bending example's 32x8x8 stall): half-width d_ref (sqrt(90 width) + 0.2).
+// Quadrature cells: half the integrand's width d_ref sqrt(width) (flat plate to 1e-15 d, tests).
+double soft_window_half_width(double width, double d_ref);
+double soft_window_cell(double width, double d_ref);
+
 // The window: every element of `surface` whose parameter box meets the box of reference half-width
 // `half_width` (in each parametric direction, measured with the reference metric at `centre`) around
 // the parameter point `centre`, each split into sub-cells no larger than `cell` (reference length) with

@@ -38,11 +38,9 @@ constexpr double kBranchMargin = 1e-3;
 // the examples, with the beam point; in a diverging attempt both move far).
 constexpr double kJump = 0.1, kJumpRatio = 10;
 
-// Soft-minimum window: half-width 0.6 d_eq (a flat plate's integrand is below exp(-0.166 / width) there:
-// exp(-33) at the largest width allowed, 5e-3) and quadrature cells of half the integrand's width
-// d_eq sqrt(width) (soft_distance tests: 1e-15 d on a flat plate). A window is re-centred after a step
-// in which its point's closest point moved by more than kRecentre of the half-width.
-constexpr double kSoftHalfWidth = 0.6, kRecentre = 0.25;
+// A soft-minimum window (interaction::soft_window_half_width) is re-centred after a step in which its
+// point's closest point moved by more than kRecentre of its half-width.
+constexpr double kRecentre = 0.25;
 
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
@@ -99,8 +97,8 @@ void Coupling::update_soft_windows(const ShellBody& s) {
   if (soft_requests_.empty()) return;
   const double d_eq = law_.equilibrium_distance(1.0);
   for (const auto& [i, centre] : soft_requests_) {
-    interaction::SoftWindow w = interaction::make_soft_window(s.surface, centre, kSoftHalfWidth * d_eq,
-                                                              0.5 * d_eq * std::sqrt(soft_width_), s.mirrors);
+    interaction::SoftWindow w = interaction::make_soft_window(s.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
+                                                              interaction::soft_window_cell(soft_width_, d_eq), s.mirrors);
     if (soft_of_[i] < 0) {
       soft_of_[i] = static_cast<int>(soft_.size());
       soft_.push_back({i, centre, std::move(w)});

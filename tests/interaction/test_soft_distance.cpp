@@ -45,22 +45,26 @@ spline::NurbsSurface plate(Eigen::Vector3d origin, Eigen::Vector3d edge_u, Eigen
   return s;
 }
 
-constexpr double kWidth = 2e-3;  // 1 / (beta d): the bending example's choice
+constexpr double kWidth = 5e-4;  // the bending example's choice
 
-// A flat plate is the law's own geometry: D = d. The window (half-width 0.6 d) truncates the integrand
-// at exp(-beta (sqrt(1.36) - 1) d) = exp(-83), and the 3 x 3 Gauss rule on cells of 0.5 d sqrt(width)
-// (half the integrand's width) is accurate to ~1e-12 relative in I, i.e. 1e-12 / beta = 1e-15 in D.
-// Tolerance 1e-11 d.
+// A flat plate is the law's own geometry: D = d, for the example's width and the largest allowed. The
+// window (soft_window_half_width: 0.41 d at 5e-4, 0.87 d at 5e-3) truncates the integrand at
+// exp(-(sqrt(1 + h^2) - 1) / width) = exp(-163) and exp(-63), and the 3 x 3 Gauss rule on cells of half
+// the integrand's width (soft_window_cell) is accurate to ~1e-12 relative in I, i.e. 1e-12 / beta ~ 1e-15
+// in D. Tolerance 1e-11 d.
 TEST(SoftDistance, EqualsTheDistanceOfAFlatPlate) {
   const double d = 0.7;
   const spline::NurbsSurface s = plate({-3, -3, 0}, {6, 0, 0}, {0, 6, 0}, 12);
   const BeamPoint b = beam_at({0.31, -0.42, d}, 1);
-  const double beta = 1.0 / (kWidth * d);
-  const SoftWindow w = make_soft_window(s, {(0.31 + 3) / 6, (-0.42 + 3) / 6}, 0.6 * d, 0.5 * d * std::sqrt(kWidth), {});
-  const SoftDistance D = soft_distance(beta, b.basis, b.x, w, window_points(s, w), false);
-  EXPECT_NEAR(D.distance, d, 1e-11 * d);
-  EXPECT_NEAR(D.nearest, d, 1e-3 * d);  // a sample lies within a cell of the foot point
-  EXPECT_LT((D.direction - Eigen::Vector3d::UnitZ()).norm(), 1e-10);
+  for (const double width : {kWidth, 5e-3}) {
+    const double beta = 1.0 / (width * d);
+    const SoftWindow w = make_soft_window(s, {(0.31 + 3) / 6, (-0.42 + 3) / 6}, soft_window_half_width(width, d),
+                                          soft_window_cell(width, d), {});
+    const SoftDistance D = soft_distance(beta, b.basis, b.x, w, window_points(s, w), false);
+    EXPECT_NEAR(D.distance, d, 1e-11 * d) << width;
+    EXPECT_NEAR(D.nearest, d, 1e-3 * d) << width;  // a sample lies within a cell of the foot point
+    EXPECT_LT((D.direction - Eigen::Vector3d::UnitZ()).norm(), 1e-10) << width;
+  }
 }
 
 // The half plate x >= 0 with its mirror image across x = 0 is the whole plate: D = d for a point in the
@@ -72,11 +76,11 @@ TEST(SoftDistance, CountsTheMirrorImageOfASymmetryPlane) {
   const BeamPoint b = beam_at({0.0, 0.2, d}, 2);
   const double beta = 1.0 / (kWidth * d);
   const Eigen::Vector2d centre(0.0, (0.2 + 3) / 6);
-  const double cell = 0.5 * d * std::sqrt(kWidth);
-  const SoftWindow mirrored = make_soft_window(s, centre, 0.6 * d, cell, {MirrorPlane{0, 0.0}});
+  const double half_width = soft_window_half_width(kWidth, d), cell = soft_window_cell(kWidth, d);
+  const SoftWindow mirrored = make_soft_window(s, centre, half_width, cell, {MirrorPlane{0, 0.0}});
   ASSERT_EQ(mirrored.images.size(), 2u);
   EXPECT_NEAR(soft_distance(beta, b.basis, b.x, mirrored, window_points(s, mirrored), false).distance, d, 1e-11 * d);
-  const SoftWindow half = make_soft_window(s, centre, 0.6 * d, cell, {});
+  const SoftWindow half = make_soft_window(s, centre, half_width, cell, {});
   const double offset = soft_distance(beta, b.basis, b.x, half, window_points(s, half), false).distance - d;
   EXPECT_NEAR(offset, std::log(2.0) / beta, 0.01 * std::log(2.0) / beta);
 }

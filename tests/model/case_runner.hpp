@@ -80,6 +80,32 @@ inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int th
   return r;
 }
 
+// A straight beam a little above a cylindrical panel (clamped at one edge), whose quadrature points
+// project across several panel elements: the coupled tangent tests. `interaction_keys` is appended to
+// the interaction's map (e.g. ", formulation: FF").
+inline std::string beam_over_panel_case(const std::string& interaction_keys) {
+  return R"(
+shells:
+  - name: panel
+    geometry: {cylinder: {radius: 3, length: 2, angles: [60, 120]}}
+    refine: {degree: 3, continuity: 2, elements: [4, 3]}
+    thickness: 0.5
+    material: {young: 1000, poisson: 0.3}
+beams:
+  - name: fiber
+    geometry: {line: {from: [0.2, 0.1, 3.86], to: [1.8, -0.2, 3.9]}}
+    refine: {degree: 3, continuity: 2, elements: 4}
+    material: {young: 1000, poisson: 0.3}
+    section: {circle: {radius: 0.5}}
+interactions:
+  - {beam: fiber, shell: panel, lennard_jones: {epsilon: 50, sigma: 0.05})" + interaction_keys + R"(}
+constraints:
+  - {body: panel, at: {edge: v0}, fix: [x, y, z]}
+  - {body: panel, at: {edge: v0}, clamp: true}
+  - {body: fiber, at: {end: start}, fix: [twist]}
+)";
+}
+
 // Central differences of the model's reduced residual: column j is (r(q + h e_j) - r(q - h e_j)) / 2h.
 inline Eigen::MatrixXd finite_difference_tangent(model::Model& m, const Eigen::VectorXd& q, double t, double h) {
   Eigen::MatrixXd k(m.size(), m.size());

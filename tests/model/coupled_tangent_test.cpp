@@ -10,33 +10,10 @@
 namespace fibrane::testing {
 namespace {
 
-std::string coupled_case(const std::string& formulation) {
-  return R"(
-shells:
-  - name: panel
-    geometry: {cylinder: {radius: 3, length: 2, angles: [60, 120]}}
-    refine: {degree: 3, continuity: 2, elements: [4, 3]}
-    thickness: 0.5
-    material: {young: 1000, poisson: 0.3}
-beams:
-  - name: fiber
-    geometry: {line: {from: [0.2, 0.1, 3.86], to: [1.8, -0.2, 3.9]}}
-    refine: {degree: 3, continuity: 2, elements: 4}
-    material: {young: 1000, poisson: 0.3}
-    section: {circle: {radius: 0.5}}
-interactions:
-  - {beam: fiber, shell: panel, formulation: )" + formulation + R"(, lennard_jones: {epsilon: 50, sigma: 0.05}}
-constraints:
-  - {body: panel, at: {edge: v0}, fix: [x, y, z]}
-  - {body: panel, at: {edge: v0}, clamp: true}
-  - {body: fiber, at: {end: start}, fix: [twist]}
-)";
-}
-
 TEST(CoupledModel, TangentMatchesFiniteDifferencesForEveryFormulation) {
   for (const std::string f : {"RF2", "RF1", "FF"}) {
     const auto dir = fresh_directory("coupled-tangent-" + f);
-    std::ofstream(dir / "case.yaml") << coupled_case(f);
+    std::ofstream(dir / "case.yaml") << beam_over_panel_case(", formulation: " + f);
     auto c = model::read_case((dir / "case.yaml").string());
     auto& m = *c.model;
     std::mt19937 rng(11);

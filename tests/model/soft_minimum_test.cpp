@@ -12,38 +12,13 @@
 namespace fibrane::testing {
 namespace {
 
-// The beam of tests/model/coupled_tangent_test.cpp over its cylindrical panel; `soft` is inserted into
-// the interaction's map.
-std::string panel_case(const std::string& soft) {
-  return R"(
-shells:
-  - name: panel
-    geometry: {cylinder: {radius: 3, length: 2, angles: [60, 120]}}
-    refine: {degree: 3, continuity: 2, elements: [4, 3]}
-    thickness: 0.5
-    material: {young: 1000, poisson: 0.3}
-beams:
-  - name: fiber
-    geometry: {line: {from: [0.2, 0.1, 3.86], to: [1.8, -0.2, 3.9]}}
-    refine: {degree: 3, continuity: 2, elements: 4}
-    material: {young: 1000, poisson: 0.3}
-    section: {circle: {radius: 0.5}}
-interactions:
-  - {beam: fiber, shell: panel, lennard_jones: {epsilon: 50, sigma: 0.05})" + soft + R"(}
-constraints:
-  - {body: panel, at: {edge: v0}, fix: [x, y, z]}
-  - {body: panel, at: {edge: v0}, clamp: true}
-  - {body: fiber, at: {end: start}, fix: [twist]}
-)";
-}
-
 // `below: 2` switches every point (the panel is convex toward the beam: relative curvature 1 + d / R) at
 // the first accepted state; the next evaluation has one soft element per beam point, each coupling its
 // beam element with every control point of its window, and the same interaction energy. Tolerance as the coupled tangent test (h = 1e-7:
 // round-off ~1e-9 relative, truncation ~ h^2 beta^2 ~ 1e-14 / (5e-3 0.78)^2 ~ 1e-9).
 TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
   const auto dir = fresh_directory("soft-minimum-tangent");
-  std::ofstream(dir / "case.yaml") << panel_case(", soft_minimum: {width: 5.0e-3, below: 2}");
+  std::ofstream(dir / "case.yaml") << beam_over_panel_case(", soft_minimum: {width: 5.0e-3, below: 2}");
   auto c = model::read_case((dir / "case.yaml").string());
   auto& m = *c.model;
   std::mt19937 rng(5);
@@ -71,7 +46,7 @@ TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
 
 void expect_input_error(const std::string& name, const std::string& soft, const std::string& message) {
   const auto dir = fresh_directory("soft-minimum-" + name);
-  std::ofstream(dir / "case.yaml") << panel_case(soft);
+  std::ofstream(dir / "case.yaml") << beam_over_panel_case(soft);
   try {
     model::read_case((dir / "case.yaml").string());
     FAIL() << name << ": must be rejected";
