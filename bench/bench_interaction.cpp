@@ -112,7 +112,8 @@ struct SoftSetup {
   }
   interaction::SoftWindow window() const {
     return interaction::make_soft_window(plate, {0.0, 0.6}, interaction::soft_window_half_width(width, d_eq),
-                                         interaction::soft_window_cell(width, d_eq), {interaction::MirrorPlane{0, 0.0}});
+                                         interaction::soft_window_cell(width, d_eq),
+                                         {interaction::MirrorPlane{0, 0.0}});
   }
 };
 
@@ -120,7 +121,8 @@ void BM_SoftPoint(benchmark::State& state) {
   const SoftSetup setup(state.range(0) * 1e-4);
   const interaction::SoftWindow w = setup.window();
   Eigen::Matrix3Xd x(3, w.control_points.size());
-  for (std::size_t a = 0; a < w.control_points.size(); ++a) x.col(a) = setup.plate.control_points()[w.control_points[a]];
+  for (std::size_t a = 0; a < w.control_points.size(); ++a)
+    x.col(a) = setup.plate.control_points()[w.control_points[a]];
   const double beta = 1.0 / (setup.width * setup.d_eq);
   Eigen::VectorXd r;
   Eigen::MatrixXd k;

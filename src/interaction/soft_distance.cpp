@@ -61,7 +61,8 @@ SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Ve
   const auto gauss = spline::gauss_legendre(3);
   for (const spline::SurfaceElement& e : surface.elements()) {
     if (e.u1 < centre[0] - hu || e.u0 > centre[0] + hu || e.v1 < centre[1] - hv || e.v0 > centre[1] + hv) continue;
-    const Eigen::Matrix3d mid = tangents(surface.basis_in(e.span_u, e.span_v, 0.5 * (e.u0 + e.u1), 0.5 * (e.v0 + e.v1)));
+    const Eigen::Matrix3d mid =
+        tangents(surface.basis_in(e.span_u, e.span_v, 0.5 * (e.u0 + e.u1), 0.5 * (e.v0 + e.v1)));
     const int nu = std::max(1, static_cast<int>(std::ceil((e.u1 - e.u0) * mid.col(1).norm() / cell)));
     const int nv = std::max(1, static_cast<int>(std::ceil((e.v1 - e.v0) * mid.col(2).norm() / cell)));
     const double du = (e.u1 - e.u0) / nu, dv = (e.v1 - e.v0) / nv;
@@ -251,7 +252,8 @@ double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, c
     if (residual->size() != n) throw std::invalid_argument("add_soft_rf2_point: residual size");
     *residual += (weight * phi.d_d) * p.d.gradient;
   }
-  if (tangent != nullptr) tangent->noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
+  if (tangent != nullptr)
+    tangent->noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
   if (force != nullptr) *force = phi.d_d * p.d.direction;
   return p.d.distance + offset;
 }

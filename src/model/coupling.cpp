@@ -87,7 +87,8 @@ void Coupling::enable_soft_minimum(double width, double below) {
 
 double Coupling::beta() const { return 1.0 / (soft_width_ * law_.equilibrium_distance(1.0)); }
 
-Eigen::Vector3d Coupling::beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const {
+Eigen::Vector3d Coupling::beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u,
+                                     const solve::DofMap& dofs) const {
   const auto& qp = quad_[i];
   return b.current(b.elements[qp.element].control_points, u, dofs).topRows<3>() *
          b.curve.basis(qp.xi, 0).R.row(0).transpose();
@@ -97,8 +98,9 @@ void Coupling::update_soft_windows(const ShellBody& s) {
   if (soft_requests_.empty()) return;
   const double d_eq = law_.equilibrium_distance(1.0);
   for (const auto& [i, centre] : soft_requests_) {
-    interaction::SoftWindow w = interaction::make_soft_window(s.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
-                                                              interaction::soft_window_cell(soft_width_, d_eq), s.mirrors);
+    interaction::SoftWindow w =
+        interaction::make_soft_window(s.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
+                                      interaction::soft_window_cell(soft_width_, d_eq), s.mirrors);
     if (soft_of_[i] < 0) {
       soft_of_[i] = static_cast<int>(soft_.size());
       soft_.push_back({i, centre, std::move(w)});
@@ -121,13 +123,13 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
     projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
-    if (last_[i] && soft_of_[i] < 0 && projection_[i].where == interaction::ShellProximity::Projection::Where::interior) {
+    const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
+    if (last_[i] && soft_of_[i] < 0 && inside) {
       const double moved = (proximity_.at(r, *last_[i]).point - projection_[i].point).norm();
       if (moved > kJump * projection_[i].distance && moved > kJumpRatio * (r - beam_points_[i]).norm())
         jump_[i] = std::max(jump_[i], moved / projection_[i].distance);
     }
     beam_points_[i] = r;
-    const bool inside = projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
   }
@@ -331,8 +333,8 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
       try {
         double e = 0;
         Eigen::Vector3d f;
-        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, sp.offset, qp.weight, &e,
-                                                         &r, with_tangent ? &kt : nullptr, &f);
+        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
+                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f);
         energy += e;
         auto& out = points_[sp.point];
         out.active = true;

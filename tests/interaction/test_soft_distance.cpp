@@ -26,7 +26,8 @@ BeamPoint beam_at(const Eigen::Vector3d& point, unsigned seed) {
   std::mt19937 gen(seed);
   std::uniform_real_distribution<double> bend(-0.05, 0.05);
   b.x.resize(3, 5);
-  for (int i = 0; i < 5; ++i) b.x.col(i) = Eigen::Vector3d(0.3 * (i - 1.6), 0.1 * i, 0) + Eigen::Vector3d(bend(gen), bend(gen), bend(gen));
+  for (int i = 0; i < 5; ++i)
+    b.x.col(i) = Eigen::Vector3d(0.3 * (i - 1.6), 0.1 * i, 0) + Eigen::Vector3d(bend(gen), bend(gen), bend(gen));
   const Eigen::Vector3d at = b.x * b.basis.transpose();
   b.x.colwise() += point - at;
   return b;

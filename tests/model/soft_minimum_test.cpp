@@ -14,8 +14,9 @@ namespace {
 
 // `below: 2` switches every point (the panel is convex toward the beam: relative curvature 1 + d / R) at
 // the first accepted state; the next evaluation has one soft element per beam point, each coupling its
-// beam element with every control point of its window, and the same interaction energy. Tolerance as the coupled tangent test (h = 1e-7:
-// round-off ~1e-9 relative, truncation ~ h^2 beta^2 ~ 1e-14 / (5e-3 0.78)^2 ~ 1e-9).
+// beam element with every control point of its window, and the same interaction energy. Tolerance as the
+// coupled tangent test (h = 1e-7: round-off ~1e-9 relative, truncation ~ h^2 beta^2 ~ 1e-14 / (5e-3 0.78)^2
+// ~ 1e-9).
 TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
   const auto dir = fresh_directory("soft-minimum-tangent");
   std::ofstream(dir / "case.yaml") << beam_over_panel_case(", soft_minimum: {width: 5.0e-3, below: 2}");
@@ -36,7 +37,9 @@ TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
   // switches (round-off of the sum of ~16 point energies).
   EXPECT_NEAR(m.couplings[0].energy(), plain_energy, 1e-12 * std::abs(plain_energy));
   for (const auto& p : m.couplings[0].points())
-    if (p.soft) EXPECT_TRUE(p.active);
+    if (p.soft) {
+      EXPECT_TRUE(p.active);
+    }
   const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
   const Eigen::MatrixXd Kfd = finite_difference_tangent(m, q, 1.0, 1e-7);
   Eigen::Index bi, bj;
@@ -77,7 +80,9 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
   const auto& coupling = r.c.model->couplings[0];
   EXPECT_GE(coupling.soft_points(), 1);
   for (const auto& p : coupling.points())
-    if (p.soft) EXPECT_GT(p.xi, 1.0 - 1.0 / 32) << "a soft point away from the fiber's end";
+    if (p.soft) {
+      EXPECT_GT(p.xi, 1.0 - 1.0 / 32) << "a soft point away from the fiber's end";
+    }
   // The fiber stays adhered and bends the shell into an arch (as the 40x10x10 test).
   const auto& energy = r.history.at("adhesion_energy");
   for (double e : energy) EXPECT_GT(e / energy.front(), 0.98);
