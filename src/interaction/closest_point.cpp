@@ -40,6 +40,14 @@ std::pair<double, double> sample_parameters(const spline::SurfaceElement& e, int
 constexpr int kMaxIterations = 60;
 constexpr int kMaxEscapes = 4;
 
+// C_ab = g_a . g_b - D . g_ab (Eq. C3) for D = p - r: the Hessian of f = |p - r|^2 / 2 in theta.
+Eigen::Matrix2d distance_hessian(const Eigen::Vector3d& D, const SurfaceJet& s) {
+  Eigen::Matrix2d C;
+  C << s.g1.dot(s.g1) - D.dot(s.g11), s.g1.dot(s.g2) - D.dot(s.g12), s.g1.dot(s.g2) - D.dot(s.g12),
+      s.g2.dot(s.g2) - D.dot(s.g22);
+  return C;
+}
+
 double f_of(const Eigen::Vector3d& p, const SurfaceJet& s) { return 0.5 * (p - s.r).squaredNorm(); }
 
 // Eigenvalues of C_ab relative to the metric g_ab (C e = lambda g e, e g-normalised: |e^a g_a| = 1):
@@ -207,9 +215,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   for (int it = 0; it <= kMaxIterations; ++it) {
     const Eigen::Vector3d D = p - s.r;
     const Eigen::Vector2d h(D.dot(s.g1), D.dot(s.g2));
-    Eigen::Matrix2d C;
-    C << s.g1.dot(s.g1) - D.dot(s.g11), s.g1.dot(s.g2) - D.dot(s.g12), s.g1.dot(s.g2) - D.dot(s.g12),
-        s.g2.dot(s.g2) - D.dot(s.g22);
+    const Eigen::Matrix2d C = distance_hessian(D, s);
     // Round-off floor of h_a: |g_a| times the accuracy of D (relative to the patch size).
     const Eigen::Vector2d tol(1e-13 * s.g1.norm() * (D.norm() + length_scale_),
                               1e-13 * s.g2.norm() * (D.norm() + length_scale_));
@@ -304,13 +310,8 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   out.element = element_at(theta[0], theta[1]);
   out.point = s.r;
   const Eigen::Vector3d D = p - s.r;
-  {
-    Eigen::Matrix2d C;
-    C << s.g1.dot(s.g1) - D.dot(s.g11), s.g1.dot(s.g2) - D.dot(s.g12), s.g1.dot(s.g2) - D.dot(s.g12),
-        s.g2.dot(s.g2) - D.dot(s.g22);
-    const auto eig = relative_curvature(s, C);
-    if (eig.info() == Eigen::Success) out.relative_curvature = eig.eigenvalues()[0];
-  }
+  if (const auto eig = relative_curvature(s, distance_hessian(D, s)); eig.info() == Eigen::Success)
+    out.relative_curvature = eig.eigenvalues()[0];
   out.distance = D.norm();
   out.normal = out.distance > 0 ? Eigen::Vector3d(D / out.distance) : Eigen::Vector3d::Zero();
   if (!converged) out.where = Projection::Where::failed;

@@ -148,7 +148,10 @@ void read_constraint(Model& m, const io::YamlNode& entry) {
     const std::vector<int> row = boundary_row(m, b, at, 0);
     for (int cp : row) m.constraints.fix(m.dofs.dof(b.block, cp, n));
     tie_rows(m, b, at, in_plane);
-    if (!b.is_beam) m.shells[b.index].mirrors.push_back({n, m.shells[b.index].surface.control_points()[row.front()][n]});
+    if (!b.is_beam) {  // the plane x[n] = the boundary row's coordinate, for the soft minimum's images
+      ShellBody& shell = m.shells[b.index];
+      shell.mirrors.push_back({n, shell.surface.control_points()[row.front()][n]});
+    }
     if (b.is_beam) {
       // Circular sections make a uniform twist a zero-energy mode: the plane fixes the gauge phi = 0,
       // and phi is even about the plane (a rotation about the plane normal is a mirror-invariant

@@ -96,6 +96,7 @@ TEST(SoftDistance, IsBelowTheDistanceWhereTheShellCurvesTowardThePoint) {
   const auto foot = ShellProximity(s).project(b.x * b.basis.transpose());
   ASSERT_EQ(foot.where, ShellProximity::Projection::Where::interior);
   ASSERT_NEAR(foot.distance, d, 1e-12);
+  EXPECT_NEAR(foot.relative_curvature, 1 - d / R, 1e-10);  // Projection::relative_curvature, the switch criterion
   const double beta = 1.0 / (width * d);
   const SoftWindow w = make_soft_window(s, {foot.u, foot.v}, 0.5 * d, 0.5 * d * std::sqrt(width), {});
   const SoftDistance D = soft_distance(beta, b.basis, b.x, w, window_points(s, w), false);

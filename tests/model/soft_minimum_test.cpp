@@ -77,6 +77,14 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
       {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
   ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
   EXPECT_NEAR(r.history.at("t").back(), 1.0, 1e-12);
+  // The shell's two symmetry constraints are its mirror planes x = 0 and y = 0 (the windows' images; the
+  // offset at the switch would hide a missing image, so they are checked here).
+  const auto& mirrors = r.c.model->shells[0].mirrors;
+  ASSERT_EQ(mirrors.size(), 2u);
+  EXPECT_EQ(mirrors[0].axis, 0);
+  EXPECT_EQ(mirrors[1].axis, 1);
+  EXPECT_EQ(mirrors[0].offset, 0.0);
+  EXPECT_EQ(mirrors[1].offset, 0.0);
   const auto& coupling = r.c.model->couplings[0];
   EXPECT_GE(coupling.soft_points(), 1);
   for (const auto& p : coupling.points())
