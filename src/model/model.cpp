@@ -30,26 +30,26 @@ solve::CurveEval Model::curve_eval() const {
 
 void Model::finalize() {
   constraints.finalize(dofs.size());
-  element_dofs_.clear();
+  std::vector<std::vector<int>> element_dofs;  // the fixed elements: shells, beams, loads
   for (const auto& s : shells) {
-    shell_first_element_.push_back(static_cast<int>(element_dofs_.size()));
-    for (auto& d : s.element_dofs(dofs)) element_dofs_.push_back(std::move(d));
+    shell_first_element_.push_back(static_cast<int>(element_dofs.size()));
+    for (auto& d : s.element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
   for (const auto& b : beams) {
-    beam_first_element_.push_back(static_cast<int>(element_dofs_.size()));
-    for (auto& d : b.element_dofs(dofs)) element_dofs_.push_back(std::move(d));
+    beam_first_element_.push_back(static_cast<int>(element_dofs.size()));
+    for (auto& d : b.element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
-  moment_first_element_ = static_cast<int>(element_dofs_.size());
+  moment_first_element_ = static_cast<int>(element_dofs.size());
   for (const auto& m : moments) {
     const auto all = beams[m.beam].element_dofs(dofs);
-    element_dofs_.push_back(all[m.element]);
+    element_dofs.push_back(all[m.element]);
   }
   for (const auto& em : edge_moments) {
-    edge_moment_first_element_.push_back(static_cast<int>(element_dofs_.size()));
+    edge_moment_first_element_.push_back(static_cast<int>(element_dofs.size()));
     const auto all = shells[em.shell].element_dofs(dofs);
-    for (int e : em.elements) element_dofs_.push_back(all[e]);
+    for (int e : em.elements) element_dofs.push_back(all[e]);
   }
-  base_elements_ = static_cast<int>(element_dofs_.size());
+  assembler_.set_pattern(constraints, element_dofs);
   constrained_dofs_ = constraints.constrained_dofs();
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
   for (auto& c : couplings) c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
@@ -58,13 +58,14 @@ void Model::finalize() {
 }
 
 void Model::rebuild_pattern() {
-  element_dofs_.resize(base_elements_);
+  // Only the coupling elements change: the shell, beam and load elements keep their pattern.
+  std::vector<std::vector<int>> coupling_dofs;
   coupling_first_element_.clear();
   for (const auto& c : couplings) {
-    coupling_first_element_.push_back(static_cast<int>(element_dofs_.size()));
-    for (auto& d : c.pair_dofs(beams[c.beam()], shells[c.shell()], dofs)) element_dofs_.push_back(std::move(d));
+    coupling_first_element_.push_back(assembler_.num_fixed_elements() + static_cast<int>(coupling_dofs.size()));
+    for (auto& d : c.pair_dofs(beams[c.beam()], shells[c.shell()], dofs)) coupling_dofs.push_back(std::move(d));
   }
-  assembler_.set_pattern(constraints, element_dofs_);
+  assembler_.set_variable_elements(coupling_dofs);
 }
 
 bool Model::symmetric() const {

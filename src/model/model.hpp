@@ -99,18 +99,16 @@ class Model : public solve::NonlinearSystem {
   double strain_energy() const { return energy_; }
   double time() const { return t_; }
   double monitor_value(const Monitor& m) const;
-  int num_elements() const { return static_cast<int>(element_dofs_.size()); }
+  int num_elements() const { return assembler_.num_elements(); }
   const PhaseTimes& times() const { return times_; }
   void reset_times() { times_ = PhaseTimes{}; }
 
  private:
   solve::SparseAssembler assembler_;
-  std::vector<std::vector<int>> element_dofs_;
   std::vector<int> shell_first_element_, beam_first_element_;
   int moment_first_element_ = 0;
   std::vector<int> edge_moment_first_element_;
   std::vector<int> constrained_dofs_;
-  int base_elements_ = 0;  // elements that never change; coupling pairs follow
   std::vector<int> coupling_first_element_;
   void rebuild_pattern();
   void assemble_edge_moment(const EdgeMoment& em, int first_element, bool with_tangent);

@@ -1,6 +1,7 @@
 #include "solve/assembler.hpp"
 
 #include <algorithm>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -8,88 +9,170 @@
 
 namespace fibrane::solve {
 
-void SparseAssembler::set_pattern(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs) {
-  if (!c.finalized()) throw std::logic_error("SparseAssembler::set_pattern: ConstraintSet not finalized");
-  constraints_ = &c;
-  const int n_free = c.num_free();
-  const size_t n_elem = element_dofs.size();
-
-  dof_begin_.assign(1, 0);
-  dofs_.clear();
-  entry_begin_.assign(1, 0);
-  entry_slot_.clear();
-  entry_coef_.clear();
-  reduced_count_.assign(n_elem, 0);
-  std::vector<int> reduced_begin(1, 0), reduced;  // sorted reduced unknowns of every element
-
-  std::vector<std::vector<int>> column_rows(static_cast<size_t>(n_free));
+SparseAssembler::ElementTable SparseAssembler::make_table(const ConstraintSet& c,
+                                                         const std::vector<std::vector<int>>& element_dofs,
+                                                         int first_id) {
+  ElementTable t;
   std::vector<int> local;
-  for (size_t e = 0; e < n_elem; ++e) {
+  for (size_t e = 0; e < element_dofs.size(); ++e) {
     local.clear();
     for (int d : element_dofs[e]) {
       if (d < 0 || d >= c.num_dofs())
-        throw std::out_of_range("SparseAssembler: element " + std::to_string(e) + " has DOF " +
-                                std::to_string(d) + " outside the DOF map");
+        throw std::out_of_range("SparseAssembler: element " + std::to_string(first_id + static_cast<int>(e)) +
+                                " has DOF " + std::to_string(d) + " outside the DOF map");
       for (const auto& [i, coef] : c.expansion(d)) local.push_back(i);
     }
     std::sort(local.begin(), local.end());
     local.erase(std::unique(local.begin(), local.end()), local.end());
     for (int d : element_dofs[e]) {
-      dofs_.push_back(d);
+      t.dofs.push_back(d);
       for (const auto& [i, coef] : c.expansion(d)) {
-        entry_slot_.push_back(static_cast<int>(std::lower_bound(local.begin(), local.end(), i) - local.begin()));
-        entry_coef_.push_back(coef);
+        t.entry_slot.push_back(static_cast<int>(std::lower_bound(local.begin(), local.end(), i) - local.begin()));
+        t.entry_coef.push_back(coef);
       }
-      entry_begin_.push_back(static_cast<int>(entry_slot_.size()));
+      t.entry_begin.push_back(static_cast<int>(t.entry_slot.size()));
     }
-    dof_begin_.push_back(static_cast<int>(dofs_.size()));
-    reduced_count_[e] = static_cast<int>(local.size());
-    reduced.insert(reduced.end(), local.begin(), local.end());
-    reduced_begin.push_back(static_cast<int>(reduced.size()));
-    for (int col : local) {
-      auto& rows = column_rows[static_cast<size_t>(col)];
-      rows.insert(rows.end(), local.begin(), local.end());
+    t.dof_begin.push_back(static_cast<int>(t.dofs.size()));
+    t.reduced.insert(t.reduced.end(), local.begin(), local.end());
+    t.reduced_begin.push_back(static_cast<int>(t.reduced.size()));
+  }
+  return t;
+}
+
+SparseAssembler::Pattern SparseAssembler::merge(int n, const Pattern& base, const ElementTable& t,
+                                                std::vector<int>& base_position) {
+  // The elements of every column (each element's reduced unknowns are its rows and its columns).
+  std::vector<int> column_begin(static_cast<size_t>(n) + 1, 0), column_elements(t.reduced.size());
+  for (int col : t.reduced) ++column_begin[static_cast<size_t>(col) + 1];
+  for (int col = 0; col < n; ++col) column_begin[col + 1] += column_begin[col];
+  {
+    std::vector<int> next(column_begin.begin(), column_begin.end() - 1);
+    for (int e = 0; e < t.size(); ++e)
+      for (int k = t.reduced_begin[e]; k < t.reduced_begin[e + 1]; ++k) column_elements[next[t.reduced[k]]++] = e;
+  }
+  // Rows each column gains over the base, sorted: one marker array per thread, so the work is the sum of
+  // the elements' block sizes, not a sort of them.
+  std::vector<std::vector<int>> added(static_cast<size_t>(n));
+#pragma omp parallel
+  {
+    std::vector<int> mark(static_cast<size_t>(n), -1);
+#pragma omp for schedule(dynamic, 256)
+    for (int col = 0; col < n; ++col) {
+      if (column_begin[col] == column_begin[col + 1]) continue;
+      for (int k = base.outer[col]; k < base.outer[col + 1]; ++k) mark[base.inner[k]] = col;
+      auto& rows = added[col];
+      for (int j = column_begin[col]; j < column_begin[col + 1]; ++j) {
+        const int e = column_elements[j];
+        for (int k = t.reduced_begin[e]; k < t.reduced_begin[e + 1]; ++k)
+          if (const int row = t.reduced[k]; mark[row] != col) {
+            mark[row] = col;
+            rows.push_back(row);
+          }
+      }
+      std::sort(rows.begin(), rows.end());
     }
   }
-
-  // Compressed column-major pattern (sorted row indices per column), values zero.
-  std::vector<Eigen::Triplet<double>> triplets;
-  for (int col = 0; col < n_free; ++col) {
-    auto& rows = column_rows[static_cast<size_t>(col)];
-    std::sort(rows.begin(), rows.end());
-    rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
-    for (int row : rows) triplets.emplace_back(row, col, 0.0);
-    std::vector<int>().swap(rows);
+  Pattern p;
+  p.outer.assign(static_cast<size_t>(n) + 1, 0);
+  for (int col = 0; col < n; ++col)
+    p.outer[col + 1] = p.outer[col] + (base.outer[col + 1] - base.outer[col]) + static_cast<int>(added[col].size());
+  p.inner.resize(static_cast<size_t>(p.outer[n]));
+  base_position.resize(base.inner.size());
+#pragma omp parallel for schedule(dynamic, 1024)
+  for (int col = 0; col < n; ++col) {
+    int out = p.outer[col], k = base.outer[col];
+    const int k_end = base.outer[col + 1];
+    auto a = added[col].begin();
+    while (k < k_end || a != added[col].end()) {
+      if (a == added[col].end() || (k < k_end && base.inner[k] < *a)) {
+        base_position[k] = out;
+        p.inner[out++] = base.inner[k++];
+      } else {
+        p.inner[out++] = *a++;
+      }
+    }
+    std::vector<int>().swap(added[col]);
   }
-  matrix_.resize(n_free, n_free);
-  matrix_.setFromTriplets(triplets.begin(), triplets.end());
-  matrix_.makeCompressed();
+  return p;
+}
 
-  // Position of every (row slot, column slot) pair of every element in the value array.
-  const int* outer = matrix_.outerIndexPtr();
-  const int* inner = matrix_.innerIndexPtr();
-  pos_begin_.assign(1, 0);
-  pos_.clear();
-  for (size_t e = 0; e < n_elem; ++e) {
-    const int* r = reduced.data() + reduced_begin[e];
-    const int m = reduced_count_[e];
+void SparseAssembler::locate(ElementTable& t, const Pattern& p) {
+  t.pos_begin.assign(1, 0);
+  for (int e = 0; e < t.size(); ++e) {
+    const size_t m = static_cast<size_t>(t.reduced_count(e));
+    t.pos_begin.push_back(t.pos_begin.back() + m * m);
+  }
+  t.pos.resize(t.pos_begin.back());
+  const int* inner = p.inner.data();
+#pragma omp parallel for schedule(dynamic, 64)
+  for (int e = 0; e < t.size(); ++e) {
+    const int* r = t.reduced.data() + t.reduced_begin[e];
+    const int m = t.reduced_count(e);
+    int* pos = t.pos.data() + t.pos_begin[e];
     for (int s = 0; s < m; ++s) {
-      const int* col_begin = inner + outer[r[s]];
-      const int* col_end = inner + outer[r[s] + 1];
-      const int* it = col_begin;
-      for (int p = 0; p < m; ++p) {  // rows r[p] increase, so the search resumes where it stopped
-        it = std::lower_bound(it, col_end, r[p]);
-        pos_.push_back(static_cast<int>(it - inner));
+      const int* col_end = inner + p.outer[r[s] + 1];
+      const int* it = inner + p.outer[r[s]];
+      for (int q = 0; q < m; ++q) {  // rows r[q] increase, so the search resumes where it stopped
+        it = std::lower_bound(it, col_end, r[q]);
+        *pos++ = static_cast<int>(it - inner);
       }
     }
-    pos_begin_.push_back(pos_.size());
   }
+}
 
-  full_residual_ = Eigen::VectorXd::Zero(c.num_dofs());
-  reduced_residual_ = Eigen::VectorXd::Zero(n_free);
+void SparseAssembler::set_matrix(const Pattern& p) {
+  const int n = static_cast<int>(p.outer.size()) - 1;
+  matrix_ = Eigen::SparseMatrix<double>(n, n);
+  matrix_.resizeNonZeros(static_cast<Eigen::Index>(p.inner.size()));
+  std::copy(p.outer.begin(), p.outer.end(), matrix_.outerIndexPtr());
+  std::copy(p.inner.begin(), p.inner.end(), matrix_.innerIndexPtr());
+  std::fill_n(matrix_.valuePtr(), p.inner.size(), 0.0);
+}
+
+void SparseAssembler::reset_vectors() {
+  full_residual_ = Eigen::VectorXd::Zero(constraints_->num_dofs());
+  reduced_residual_ = Eigen::VectorXd::Zero(constraints_->num_free());
   buffers_.clear();
   overflow_ = Buffer{};
   ++version_;
+}
+
+void SparseAssembler::set_pattern(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs) {
+  if (!c.finalized()) throw std::logic_error("SparseAssembler::set_pattern: ConstraintSet not finalized");
+  constraints_ = &c;
+  const int n = c.num_free();
+  fixed_ = make_table(c, element_dofs, 0);
+  variable_ = ElementTable{};
+  Pattern empty;
+  empty.outer.assign(static_cast<size_t>(n) + 1, 0);
+  std::vector<int> unused;
+  fixed_pattern_ = merge(n, empty, fixed_, unused);
+  locate(fixed_, fixed_pattern_);
+  set_matrix(fixed_pattern_);
+  fixed_in_matrix_.resize(fixed_pattern_.inner.size());
+  std::iota(fixed_in_matrix_.begin(), fixed_in_matrix_.end(), 0);
+  reset_vectors();
+}
+
+void SparseAssembler::set_variable_elements(const std::vector<std::vector<int>>& element_dofs) {
+  if (!constraints_) throw std::logic_error("SparseAssembler::set_variable_elements before set_pattern");
+  const int n = constraints_->num_free();
+  variable_ = make_table(*constraints_, element_dofs, fixed_.size());
+  std::vector<int> fixed_position;
+  const Pattern p = merge(n, fixed_pattern_, variable_, fixed_position);
+  // The fixed elements' positions move with their entries: old matrix position -> new one.
+  if (fixed_position != fixed_in_matrix_) {
+    std::vector<int> moved(static_cast<size_t>(matrix_.nonZeros()), -1);
+    for (size_t k = 0; k < fixed_position.size(); ++k) moved[fixed_in_matrix_[k]] = fixed_position[k];
+    int* pos = fixed_.pos.data();
+    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(fixed_.pos.size());
+#pragma omp parallel for schedule(static)
+    for (std::ptrdiff_t i = 0; i < count; ++i) pos[i] = moved[pos[i]];
+    fixed_in_matrix_ = std::move(fixed_position);
+  }
+  locate(variable_, p);
+  set_matrix(p);
+  reset_vectors();
 }
 
 void SparseAssembler::begin(bool with_matrix) {
@@ -121,15 +204,12 @@ SparseAssembler::Buffer* SparseAssembler::thread_buffer() {
   return &buffers_[tid];
 }
 
-void SparseAssembler::scatter(int e, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local,
-                              double* values, double* residual, bool atomic) const {
-  const int first = dof_begin_[static_cast<size_t>(e)];
-  const int n = dof_begin_[static_cast<size_t>(e) + 1] - first;
-  if (r_local.size() != n || (k_local && (k_local->rows() != n || k_local->cols() != n)))
-    throw std::invalid_argument("SparseAssembler::add: element " + std::to_string(e) +
-                                " contribution has the wrong size");
+template <class Local>
+void SparseAssembler::scatter(const ElementTable& t, int e, int n, Local local, const Eigen::VectorXd& r_local,
+                              const Eigen::MatrixXd* k_local, double* values, double* residual, bool atomic) const {
+  const int first = t.dof_begin[static_cast<size_t>(e)];
   for (int a = 0; a < n; ++a) {
-    double& target = residual[dofs_[static_cast<size_t>(first + a)]];
+    double& target = residual[t.dofs[static_cast<size_t>(first + local(a))]];
     if (atomic) {
 #pragma omp atomic
       target += r_local[a];
@@ -139,18 +219,22 @@ void SparseAssembler::scatter(int e, const Eigen::VectorXd& r_local, const Eigen
   }
   if (!k_local || !with_matrix_) return;
   // K_red += T_e^T k T_e, walking k column by column (column-major storage).
-  const int m = reduced_count_[static_cast<size_t>(e)];
-  const int* pos = pos_.data() + pos_begin_[static_cast<size_t>(e)];
-  const int* eb = entry_begin_.data() + first;
+  const int m = t.reduced_count(e);
+  const int* pos = t.pos.data() + t.pos_begin[static_cast<size_t>(e)];
+  const int* eb = t.entry_begin.data() + first;
+  const int* slot = t.entry_slot.data();
+  const double* coef = t.entry_coef.data();
   for (int b = 0; b < n; ++b) {
-    for (int jb = eb[b]; jb < eb[b + 1]; ++jb) {
-      const int* column = pos + static_cast<size_t>(entry_slot_[static_cast<size_t>(jb)]) * m;
-      const double cb = entry_coef_[static_cast<size_t>(jb)];
+    const int lb = local(b);
+    for (int jb = eb[lb]; jb < eb[lb + 1]; ++jb) {
+      const int* column = pos + static_cast<size_t>(slot[jb]) * m;
+      const double cb = coef[jb];
       for (int a = 0; a < n; ++a) {
+        const int la = local(a);
         const double kab = (*k_local)(a, b) * cb;
-        for (int ja = eb[a]; ja < eb[a + 1]; ++ja) {
-          double& target = values[column[entry_slot_[static_cast<size_t>(ja)]]];
-          const double v = entry_coef_[static_cast<size_t>(ja)] * kab;
+        for (int ja = eb[la]; ja < eb[la + 1]; ++ja) {
+          double& target = values[column[slot[ja]]];
+          const double v = coef[ja] * kab;
           if (atomic) {
 #pragma omp atomic
             target += v;
@@ -163,24 +247,57 @@ void SparseAssembler::scatter(int e, const Eigen::VectorXd& r_local, const Eigen
   }
 }
 
-void SparseAssembler::add(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local) {
+template <class Local>
+void SparseAssembler::add_block(int element, int n, Local local, const Eigen::VectorXd& r_local,
+                                const Eigen::MatrixXd* k_local) {
   if (element < 0 || element >= num_elements())
     throw std::out_of_range("SparseAssembler::add: element " + std::to_string(element) + " out of range");
+  const bool fixed = element < fixed_.size();
+  const ElementTable& t = fixed ? fixed_ : variable_;
+  const int e = fixed ? element : element - fixed_.size();
+  const int size = t.dof_begin[static_cast<size_t>(e) + 1] - t.dof_begin[static_cast<size_t>(e)];
+  if (r_local.size() != n || (k_local && (k_local->rows() != n || k_local->cols() != n)))
+    throw std::invalid_argument("SparseAssembler::add: element " + std::to_string(element) +
+                                " contribution has the wrong size");
+  for (int a = 0; a < n; ++a)
+    if (local(a) < 0 || local(a) >= size)
+      throw std::out_of_range("SparseAssembler::add: local DOF outside element " + std::to_string(element));
   if (strategy_ == Strategy::Atomic) {
-    scatter(element, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), true);
+    scatter(t, e, n, local, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), true);
     return;
   }
   const bool outermost = omp_get_level() <= 1;
   if (outermost && omp_get_thread_num() == 0) {
-    scatter(element, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), false);
+    scatter(t, e, n, local, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), false);
   } else if (Buffer* b = thread_buffer()) {
     b->used = true;
-    scatter(element, r_local, k_local, b->values.data(), b->residual.data(), false);
+    scatter(t, e, n, local, r_local, k_local, b->values.data(), b->residual.data(), false);
   } else {
 #pragma omp atomic write
     overflow_.used = true;
-    scatter(element, r_local, k_local, overflow_.values.data(), overflow_.residual.data(), true);
+    scatter(t, e, n, local, r_local, k_local, overflow_.values.data(), overflow_.residual.data(), true);
   }
+}
+
+void SparseAssembler::add(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local) {
+  if (element >= 0 && element < num_elements()) {
+    const bool fixed = element < fixed_.size();
+    const ElementTable& t = fixed ? fixed_ : variable_;
+    const size_t e = static_cast<size_t>(fixed ? element : element - fixed_.size());
+    if (r_local.size() != t.dof_begin[e + 1] - t.dof_begin[e])
+      throw std::invalid_argument("SparseAssembler::add: element " + std::to_string(element) +
+                                  " contribution has the wrong size");
+  }
+  add_block(element, static_cast<int>(r_local.size()), [](int a) { return a; }, r_local, k_local);
+}
+
+void SparseAssembler::add(int element, std::span<const int> local, const Eigen::VectorXd& r_local,
+                          const Eigen::MatrixXd* k_local) {
+  if (static_cast<Eigen::Index>(local.size()) != r_local.size())
+    throw std::invalid_argument("SparseAssembler::add: " + std::to_string(local.size()) + " local DOFs for " +
+                                std::to_string(r_local.size()) + " values");
+  add_block(element, static_cast<int>(local.size()), [local](int a) { return local[static_cast<size_t>(a)]; },
+            r_local, k_local);
 }
 
 void SparseAssembler::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local) {

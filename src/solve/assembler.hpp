@@ -3,8 +3,12 @@
 // elimination (see constraints.hpp):  K_red = T^T K T,  r_red = T^T r.
 // The full residual r is kept as well: at constrained DOFs it is the reaction force.
 //
-// set_pattern() builds, once per element list, the reduced CSC sparsity pattern and for every element a
-// table of positions into the matrix value array, so add() is a pure scatter without searching.
+// The elements come in two groups. The fixed ones (shell, beam, loads) are set once with set_pattern(); the
+// variable ones (the beam-shell coupling, which changes as points slide and switch) are replaced with
+// set_variable_elements(), which merges their blocks into the fixed pattern without rebuilding it: at the
+// bending example's paper mesh (40.7 M fixed non-zeros) a full rebuild took ~5.3 s, a variable-only one is
+// measured in docs/performance.md. For every element a table of positions into the matrix value array is
+// kept, so add() is a pure scatter without searching.
 // Concurrency: each OpenMP thread scatters into its own value/residual buffer (thread 0 straight into the
 // matrix), end() sums and clears them in one pass. Measured scatter-only on a cubic-shell-like pattern
 // (9409 elements of 48 DOFs, 4.2 M nonzeros): 26 ms plain, 128 ms with `omp atomic` adds (1 thread), i.e.
@@ -29,16 +33,24 @@ class SparseAssembler {
   void set_strategy(Strategy s) { strategy_ = s; }
   Strategy strategy() const { return strategy_; }
 
-  // One entry per element (any group of coupled DOFs): its full DOF list. The ConstraintSet must be
-  // finalized and must outlive the assembler's use. Increments pattern_version().
+  // The fixed elements, ids 0, 1, ...: one entry per element (any group of coupled DOFs), its full DOF list.
+  // Removes the variable elements. The ConstraintSet must be finalized and must outlive the assembler's
+  // use. Increments pattern_version().
   void set_pattern(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs);
+  // Replaces the variable elements (ids num_fixed_elements(), ...). Costs the variable elements' blocks
+  // plus one pass over the fixed elements' position tables. Increments pattern_version().
+  void set_variable_elements(const std::vector<std::vector<int>>& element_dofs);
   int pattern_version() const { return version_; }
-  int num_elements() const { return static_cast<int>(dof_begin_.size()) - 1; }
+  int num_fixed_elements() const { return fixed_.size(); }
+  int num_elements() const { return fixed_.size() + variable_.size(); }
 
   void begin(bool with_matrix);  // zero the values (keep the pattern)
   // Thread-safe inside OpenMP parallel loops. r_local/k_local are ordered like the element's DOF list;
   // k_local may be null (residual only). Convention: r = internal - external forces.
   void add(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
+  // A sub-block of an element: r_local / k_local belong to the element's DOFs local[0], local[1], ...
+  // (indices into its DOF list), the rest of the element is untouched.
+  void add(int element, std::span<const int> local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
   // Residual-only contributions at arbitrary DOFs (point loads etc.), thread-safe.
   void add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local);
   void end();  // reduce thread buffers, form T^T r
@@ -52,26 +64,47 @@ class SparseAssembler {
     std::vector<double> values, residual;
     bool used = false;  // written only by the owning thread
   };
+  // Flattened element maps. Element e owns local DOFs [dof_begin[e], dof_begin[e+1]) of dofs; local DOF j
+  // expands into entries [entry_begin[j], entry_begin[j+1]) = (slot, coefficient), slot being the index in
+  // the element's sorted list of reduced unknowns reduced[reduced_begin[e] ...] (m of them); the
+  // value-array position of (row slot p, column slot s) is pos[pos_begin[e] + s * m + p].
+  struct ElementTable {
+    std::vector<int> dof_begin{0}, dofs;
+    std::vector<int> entry_begin{0}, entry_slot;
+    std::vector<double> entry_coef;
+    std::vector<int> reduced_begin{0}, reduced;
+    std::vector<size_t> pos_begin{0};
+    std::vector<int> pos;
+    int size() const { return static_cast<int>(dof_begin.size()) - 1; }
+    int reduced_count(int e) const { return reduced_begin[static_cast<size_t>(e) + 1] - reduced_begin[static_cast<size_t>(e)]; }
+  };
+  struct Pattern {  // compressed columns, sorted rows
+    std::vector<int> outer, inner;
+  };
+  static ElementTable make_table(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs, int first_id);
+  // The union of `base` and the elements' blocks; base_position[k] = where base entry k went.
+  static Pattern merge(int n, const Pattern& base, const ElementTable& t, std::vector<int>& base_position);
+  static void locate(ElementTable& t, const Pattern& p);  // fills t.pos
+  void set_matrix(const Pattern& p);
+  void reset_vectors();
+
   // Buffer of the calling thread, or nullptr when the caller must use atomics on the shared arrays.
   Buffer* thread_buffer();
-  void scatter(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local, double* values,
-               double* residual, bool atomic) const;
+  // Scatters element e's sub-block local(0), ..., local(n - 1).
+  template <class Local>
+  void scatter(const ElementTable& t, int e, int n, Local local, const Eigen::VectorXd& r_local,
+               const Eigen::MatrixXd* k_local, double* values, double* residual, bool atomic) const;
+  template <class Local>
+  void add_block(int element, int n, Local local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
 
   const ConstraintSet* constraints_ = nullptr;
   Strategy strategy_ = Strategy::ThreadBuffers;
   int version_ = 0;
   bool with_matrix_ = false;
 
-  // Flattened element maps. Element e owns local DOFs [dof_begin_[e], dof_begin_[e+1]) of dofs_;
-  // local DOF j expands into entries [entry_begin_[j], entry_begin_[j+1]) = (slot, coefficient), slot being
-  // the index in the element's sorted list of reduced unknowns (size reduced_count_[e]); the value-array
-  // position of (row slot p, column slot s) is pos_[pos_begin_[e] + s * m + p].
-  std::vector<int> dof_begin_{0}, dofs_;
-  std::vector<int> entry_begin_{0}, entry_slot_;
-  std::vector<double> entry_coef_;
-  std::vector<int> reduced_count_;
-  std::vector<size_t> pos_begin_;
-  std::vector<int> pos_;
+  ElementTable fixed_, variable_;
+  Pattern fixed_pattern_;                // the fixed elements' blocks alone
+  std::vector<int> fixed_in_matrix_;     // position in matrix_ of every fixed_pattern_ entry
 
   Eigen::SparseMatrix<double> matrix_;
   Eigen::VectorXd full_residual_, reduced_residual_;

@@ -138,5 +138,88 @@ TEST(SparseAssembler, ResidualOnlyPassAndPointLoads) {
   EXPECT_GT(a.pattern_version(), v0);
 }
 
+// The dense reduced matrix of elements [begin, end) of p, in the assembler's numbering from `first_id`.
+Eigen::MatrixXd dense_reduced(const RandomProblem& p, size_t begin, size_t end) {
+  const int n = p.constraints.num_dofs();
+  Eigen::MatrixXd k_full = Eigen::MatrixXd::Zero(n, n);
+  for (size_t e = begin; e < end; ++e)
+    for (size_t i = 0; i < p.element_dofs[e].size(); ++i)
+      for (size_t j = 0; j < p.element_dofs[e].size(); ++j)
+        k_full(p.element_dofs[e][i], p.element_dofs[e][j]) +=
+            p.k_local[e](static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+  const Eigen::MatrixXd t = dense_t(p.constraints);
+  return t.transpose() * k_full * t;
+}
+
+// Fixed elements [0, n_fixed), then two different sets of variable elements in turn (the second
+// replacement moves the fixed positions a second time). Each state must equal the dense definition, and
+// the pattern must hold exactly the entries the elements touch (no stale entries of the first set).
+TEST(SparseAssembler, VariableElementsReplaceOnlyTheirPart) {
+  const RandomProblem p = make_problem(200, 90, 7, 4);
+  const size_t n_fixed = 50;
+  const std::vector<std::vector<int>> fixed(p.element_dofs.begin(), p.element_dofs.begin() + n_fixed);
+  SparseAssembler a;
+  a.set_pattern(p.constraints, fixed);
+  const size_t sets[][2] = {{50, 70}, {70, 90}, {50, 90}};
+  int version = a.pattern_version();
+  for (const auto& [begin, end] : sets) {
+    a.set_variable_elements({p.element_dofs.begin() + begin, p.element_dofs.begin() + end});
+    EXPECT_GT(a.pattern_version(), version);
+    version = a.pattern_version();
+    ASSERT_EQ(a.num_elements(), static_cast<int>(n_fixed + end - begin));
+    for (int pass = 0; pass < 2; ++pass) {  // both threads: the buffers' sizes follow the pattern
+      a.begin(true);
+#pragma omp parallel for schedule(dynamic, 3) num_threads(2)
+      for (int e = 0; e < a.num_elements(); ++e) {
+        const size_t source = static_cast<size_t>(e) < n_fixed ? static_cast<size_t>(e) : begin + e - n_fixed;
+        a.add(e, p.r_local[source], &p.k_local[source]);
+      }
+      a.end();
+    }
+    Eigen::MatrixXd expected = dense_reduced(p, 0, n_fixed) + dense_reduced(p, begin, end);
+    const Eigen::MatrixXd assembled(a.matrix());
+    EXPECT_LE((assembled - expected).cwiseAbs().maxCoeff(), 1e-13 * expected.cwiseAbs().maxCoeff());
+    // The same elements all fixed give the same pattern.
+    SparseAssembler all;
+    std::vector<std::vector<int>> together = fixed;
+    together.insert(together.end(), p.element_dofs.begin() + begin, p.element_dofs.begin() + end);
+    all.set_pattern(p.constraints, together);
+    EXPECT_EQ(all.matrix().nonZeros(), a.matrix().nonZeros());
+    EXPECT_TRUE(std::equal(all.matrix().innerIndexPtr(), all.matrix().innerIndexPtr() + all.matrix().nonZeros(),
+                           a.matrix().innerIndexPtr()));
+  }
+}
+
+// A sub-block add equals the whole element's add with the other rows and columns zero.
+TEST(SparseAssembler, SubBlockAddEqualsMaskedElement) {
+  const RandomProblem p = make_problem(80, 12, 9, 5);
+  SparseAssembler whole, part;
+  whole.set_pattern(p.constraints, {p.element_dofs.begin(), p.element_dofs.begin() + 6});
+  part.set_pattern(p.constraints, {p.element_dofs.begin(), p.element_dofs.begin() + 6});
+  whole.set_variable_elements({p.element_dofs.begin() + 6, p.element_dofs.end()});
+  part.set_variable_elements({p.element_dofs.begin() + 6, p.element_dofs.end()});
+  const std::vector<int> local{7, 2, 5, 0};  // any order
+  whole.begin(true);
+  part.begin(true);
+  for (int e : {1, 8}) {  // a fixed and a variable element
+    Eigen::VectorXd r = Eigen::VectorXd::Zero(9), r_sub(4);
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(9, 9), k_sub(4, 4);
+    for (int i = 0; i < 4; ++i) {
+      r[local[i]] = r_sub[i] = p.r_local[e][i];
+      for (int j = 0; j < 4; ++j) k(local[i], local[j]) = k_sub(i, j) = p.k_local[e](i, j);
+    }
+    whole.add(e, r, &k);
+    part.add(e, local, r_sub, &k_sub);
+  }
+  whole.end();
+  part.end();
+  EXPECT_EQ((Eigen::MatrixXd(whole.matrix()) - Eigen::MatrixXd(part.matrix())).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ((whole.full_residual() - part.full_residual()).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(Eigen::MatrixXd(part.matrix()).cwiseAbs().maxCoeff(), 0.0);
+  const std::vector<int> outside{9};
+  EXPECT_THROW(part.add(1, outside, Eigen::VectorXd::Zero(1), nullptr), std::out_of_range);
+  EXPECT_THROW(part.add(1, Eigen::VectorXd::Zero(4), nullptr), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace fibrane::solve
