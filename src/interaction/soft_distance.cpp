@@ -114,11 +114,15 @@ namespace {
 // D, m = sum W_q grad d_q (grad ln I = -beta m) and the two coefficients of D's Hessian,
 //   grad D = a m,  Hess D = a S + c m m^T,  a = -beta / F'(D),  c = -beta^2 (1 + F''(D) / F'(D)^2) / F'(D),
 // with F = ln I_plate and S = sum W_q (Hess d_q - beta grad d_q grad d_q^T), which in (r_B, sample point) is
-// [M, -M S_i; -S_i M, S_i M S_i], M = P / d_q - beta n n^T (S_i the image's reflection). S is block-sparse
+// [M, -M S_i; -S_i M, S_i M S_i], M = P / d_q - beta n n^T (S_i the image's reflection).
+// Everything lives on the support: the beam DOFs and the window control points under a sample of
+// non-negligible weight (a few hundred of the window's ~1000 at the bending example's paper mesh; the
+// window is larger than the support so that it can stay put while the point slides). S is block-sparse
 // (per sample: the beam point and the sample's basis functions) and is added, times scale(D, a), straight
-// into *target (n x n, may be null); the dense rank-one part is left to the caller (one pass over n^2).
+// into *target (support x support, may be null); the dense rank-one part is left to the caller.
 struct Parts {
-  SoftDistance d;  // distance, nearest, direction, gradient (hessian left empty)
+  SoftDistance d;            // distance, nearest, direction, gradient on the support (hessian left empty)
+  std::vector<int> support;  // support entry -> local DOF [beam CPs x 4, window CPs x 3]
   Eigen::VectorXd m;
   double a = 0, c = 0;
 };
@@ -129,7 +133,7 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
   const int nb = static_cast<int>(beam_basis.size()), nw = static_cast<int>(window.control_points.size());
   if (beam_x.cols() != nb || window_x.cols() != nw || window.num_samples() == 0)
     throw std::invalid_argument("soft_distance: basis, control point and window sizes differ");
-  const int n = 4 * nb + 3 * nw, k = window.basis_size;
+  const int k = window.basis_size;
   const int n_images = static_cast<int>(window.images.size());
   const Eigen::Vector3d rb = beam_x * beam_basis.transpose();
 
@@ -155,7 +159,22 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
   for (int i = 0; i < ns; ++i) Z += W[i] = window.weight[i / n_images] * std::exp(-beta * (dist[i] - nearest));
   for (double& x : W) x /= Z;
 
+  // The support's control points, in window order: slot[la] = their index, or -1.
+  std::vector<int> slot(nw, -1);
+  for (int i = 0; i < ns; ++i)
+    if (W[i] >= kNegligible)
+      for (int a = 0; a < k; ++a) slot[window.local[(i / n_images) * k + a]] = 0;
   Parts out;
+  for (int j = 0; j < 4 * nb; ++j) out.support.push_back(j);
+  int n_cps = 0;
+  for (int la = 0; la < nw; ++la)
+    if (slot[la] == 0) {
+      slot[la] = n_cps++;
+      for (int c = 0; c < 3; ++c) out.support.push_back(4 * nb + 3 * la + c);
+    }
+  const int n = static_cast<int>(out.support.size());
+  if (target != nullptr) target->setZero(n, n);
+
   out.d.nearest = nearest;
   out.d.distance = plate_distance(beta, std::log(Z) - beta * nearest, nearest);
   const PlateLog F = plate_log(beta, out.d.distance);
@@ -163,10 +182,10 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
   out.c = -beta * beta * (1.0 + F.d2 / (F.d1 * F.d1)) / F.d1;
   const double factor = target != nullptr ? scale(out.d.distance, out.a) : 0.0;
 
-  // Pass 2: m, and factor x S into the target.
+  // Pass 2: m, and factor x S into the target (support numbering: beam DOFs, then 3 per support CP).
   out.m = Eigen::VectorXd::Zero(n);
   Eigen::Matrix3d Mbb = Eigen::Matrix3d::Zero();
-  std::vector<Eigen::Matrix3d> Mbw(target != nullptr ? nw : 0, Eigen::Matrix3d::Zero());
+  std::vector<Eigen::Matrix3d> Mbw(target != nullptr ? n_cps : 0, Eigen::Matrix3d::Zero());
   Eigen::Vector3d mb = Eigen::Vector3d::Zero();
   for (int i = 0; i < ns; ++i) {
     if (W[i] < kNegligible) continue;
@@ -176,18 +195,18 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
     const Eigen::Vector3d sn = image.S.transpose() * nn;
     mb += W[i] * nn;
     for (int a = 0; a < k; ++a)
-      out.m.segment<3>(4 * nb + 3 * window.local[s * k + a]) -= (W[i] * window.basis[s * k + a]) * sn;
+      out.m.segment<3>(4 * nb + 3 * slot[window.local[s * k + a]]) -= (W[i] * window.basis[s * k + a]) * sn;
     if (target == nullptr) continue;
     const Eigen::Matrix3d M =
         (factor * W[i]) * ((Eigen::Matrix3d::Identity() - nn * nn.transpose()) / dist[i] - beta * nn * nn.transpose());
     const Eigen::Matrix3d MS = M * image.S, SMS = image.S.transpose() * MS;
     Mbb += M;
     for (int a = 0; a < k; ++a) {
-      const int la = window.local[s * k + a];
+      const int sa = slot[window.local[s * k + a]];
       const double Na = window.basis[s * k + a];
-      Mbw[la] -= Na * MS;
+      Mbw[sa] -= Na * MS;
       for (int b = 0; b < k; ++b)
-        target->block<3, 3>(4 * nb + 3 * la, 4 * nb + 3 * window.local[s * k + b]) +=
+        target->block<3, 3>(4 * nb + 3 * sa, 4 * nb + 3 * slot[window.local[s * k + b]]) +=
             (Na * window.basis[s * k + b]) * SMS;
     }
   }
@@ -195,7 +214,7 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
   if (target != nullptr) {
     for (int i = 0; i < nb; ++i) {
       for (int j = 0; j < nb; ++j) target->block<3, 3>(4 * i, 4 * j) += (beam_basis[i] * beam_basis[j]) * Mbb;
-      for (int a = 0; a < nw; ++a) {
+      for (int a = 0; a < n_cps; ++a) {
         target->block<3, 3>(4 * i, 4 * nb + 3 * a) += beam_basis[i] * Mbw[a];
         target->block<3, 3>(4 * nb + 3 * a, 4 * i) += beam_basis[i] * Mbw[a].transpose();
       }
@@ -204,6 +223,16 @@ Parts soft_parts(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen:
   out.d.gradient = out.a * out.m;
   out.d.direction = out.a * mb;
   return out;
+}
+
+// A support vector / matrix added into one over all local DOFs.
+void expand_into(const std::vector<int>& support, const Eigen::VectorXd& part, Eigen::VectorXd& full) {
+  for (std::size_t i = 0; i < support.size(); ++i) full[support[i]] += part[static_cast<Eigen::Index>(i)];
+}
+void expand_into(const std::vector<int>& support, const Eigen::MatrixXd& part, Eigen::MatrixXd& full) {
+  for (std::size_t j = 0; j < support.size(); ++j)
+    for (std::size_t i = 0; i < support.size(); ++i)
+      full(support[i], support[j]) += part(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
 }
 
 // *m is sized n x n and zeroed when empty; throws if it has another size.
@@ -220,40 +249,53 @@ Eigen::Index local_size(const Eigen::RowVectorXd& beam_basis, const SoftWindow& 
 
 SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, const Eigen::Matrix3Xd& beam_x,
                            const SoftWindow& window, const Eigen::Matrix3Xd& window_x, bool with_hessian) {
+  const Eigen::Index n = local_size(beam_basis, window);
   Eigen::MatrixXd H;
-  if (with_hessian) prepare(&H, local_size(beam_basis, window), "soft_distance: size");
   Parts p = soft_parts(beta, beam_basis, beam_x, window, window_x, with_hessian ? &H : nullptr,
                        [](double, double a) { return a; });
+  SoftDistance d = p.d;
+  d.gradient = Eigen::VectorXd::Zero(n);
+  expand_into(p.support, p.d.gradient, d.gradient);
   if (with_hessian) {
     H.noalias() += p.c * p.m * p.m.transpose();
-    p.d.hessian = std::move(H);
+    d.hessian = Eigen::MatrixXd::Zero(n, n);
+    expand_into(p.support, H, d.hessian);
   }
-  return p.d;
+  return d;
 }
 
 double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
-                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force) {
+                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force, std::vector<int>* support) {
   const Eigen::Index n = local_size(beam_basis, window);
-  if (tangent != nullptr) prepare(tangent, n, "add_soft_rf2_point: tangent size");
+  if (support == nullptr) {
+    if (tangent != nullptr) prepare(tangent, n, "add_soft_rf2_point: tangent size");
+    if (residual != nullptr) {
+      if (residual->size() == 0) residual->setZero(n);
+      if (residual->size() != n) throw std::invalid_argument("add_soft_rf2_point: residual size");
+    }
+  }
   // Hessian of weight phi(D + offset): weight (phi_dd grad D grad D^T + phi_d Hess D)
   //   = (weight phi_d a) S + weight (phi_dd a^2 + phi_d c) m m^T.
   laws::LawValue phi{};
-  const Parts p = soft_parts(beta, beam_basis, beam_x, window, window_x, tangent,
+  Eigen::MatrixXd k;
+  const Parts p = soft_parts(beta, beam_basis, beam_x, window, window_x, tangent != nullptr ? &k : nullptr,
                              [&](double D, double a) {
                                phi = law.evaluate(D + offset, 1.0);
                                return weight * phi.d_d * a;
                              });
   if (tangent == nullptr) phi = law.evaluate(p.d.distance + offset, 1.0);
   if (energy != nullptr) *energy += weight * phi.value;
-  if (residual != nullptr) {
-    if (residual->size() == 0) residual->setZero(n);
-    if (residual->size() != n) throw std::invalid_argument("add_soft_rf2_point: residual size");
-    *residual += (weight * phi.d_d) * p.d.gradient;
+  if (tangent != nullptr) k.noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
+  if (support != nullptr) {
+    *support = p.support;
+    if (residual != nullptr) *residual = (weight * phi.d_d) * p.d.gradient;
+    if (tangent != nullptr) *tangent = std::move(k);
+  } else {
+    if (residual != nullptr) expand_into(p.support, ((weight * phi.d_d) * p.d.gradient).eval(), *residual);
+    if (tangent != nullptr) expand_into(p.support, k, *tangent);
   }
-  if (tangent != nullptr)
-    tangent->noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
   if (force != nullptr) *force = phi.d_d * p.d.direction;
   return p.d.distance + offset;
 }

@@ -91,9 +91,13 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
 // in the sign convention of add_sbs_point (phi_,d dD/dr_B). Throws std::domain_error if the law rejects
 // D + offset (overlap). (The offset lets a point switch from d to the soft distance without a jump: the
 // caller sets it to d - D at the state where it switches.)
+// With `support` given, *residual and *tangent are instead overwritten with their entries on the support:
+// the local DOFs listed in *support (the beam's and those of the window control points under a sample of
+// non-negligible weight; all others are zero), which is what an assembler needs.
 double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
-                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force = nullptr);
+                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force = nullptr,
+                          std::vector<int>* support = nullptr);
 
 }  // namespace fibrane::interaction

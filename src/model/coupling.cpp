@@ -147,6 +147,7 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     sp.offset = branch.where == interaction::ShellProximity::Projection::Where::interior ? branch.distance - D : 0.0;
     sp.calibrated = true;
   }
+  if (soft_changed_) build_soft_element(b);
   // The sparsity pattern holds, for each beam element, the shell elements around the ones its points
   // project onto (a 3 x 3 block), so that points sliding across a shell element edge (a beam lying on an
   // element boundary does that at every iteration) do not force a new pattern and a new symbolic
@@ -184,6 +185,31 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     pair_points_[it - pairs_.begin()].push_back(i);
   }
   return changed;
+}
+
+void Coupling::build_soft_element(const BeamBody& b) {
+  soft_beam_cps_.clear();
+  soft_shell_cps_.clear();
+  for (const SoftPoint& sp : soft_) {
+    const auto& beam_cps = b.elements[quad_[sp.point].element].control_points;
+    soft_beam_cps_.insert(soft_beam_cps_.end(), beam_cps.begin(), beam_cps.end());
+    soft_shell_cps_.insert(soft_shell_cps_.end(), sp.window.control_points.begin(), sp.window.control_points.end());
+  }
+  for (auto* cps : {&soft_beam_cps_, &soft_shell_cps_}) {
+    std::sort(cps->begin(), cps->end());
+    cps->erase(std::unique(cps->begin(), cps->end()), cps->end());
+  }
+  auto index = [](const std::vector<int>& sorted, int cp) {
+    return static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), cp) - sorted.begin());
+  };
+  const int beam_size = 4 * static_cast<int>(soft_beam_cps_.size());
+  for (SoftPoint& sp : soft_) {
+    sp.to_union.clear();
+    for (int cp : b.elements[quad_[sp.point].element].control_points)
+      for (int c = 0; c < 4; ++c) sp.to_union.push_back(4 * index(soft_beam_cps_, cp) + c);
+    for (int cp : sp.window.control_points)
+      for (int c = 0; c < 3; ++c) sp.to_union.push_back(beam_size + 3 * index(soft_shell_cps_, cp) + c);
+  }
 }
 
 void Coupling::accept() {
@@ -250,11 +276,11 @@ std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const Shell
       for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
     out.push_back(std::move(d));
   }
-  for (const SoftPoint& sp : soft_) {
+  if (!soft_.empty()) {
     std::vector<int> d;
-    for (int cp : b.elements[quad_[sp.point].element].control_points)
+    for (int cp : soft_beam_cps_)
       for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
-    for (int cp : sp.window.control_points)
+    for (int cp : soft_shell_cps_)
       for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
     out.push_back(std::move(d));
   }
@@ -316,7 +342,7 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
       a.add(first_element + k_pair, r, with_tangent ? &k : nullptr);
     }
   }
-  // Soft-minimum points: one element each (the beam element and the window's control points).
+  // Soft-minimum points: each adds the sub-block of its support to the one soft element.
   const int n_soft = static_cast<int>(soft_.size());
   if (n_soft > 0) {
     const double beta = this->beta();
@@ -330,11 +356,12 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
       const Eigen::RowVectorXd basis = b.curve.basis(qp.xi, 0).R.row(0);
       Eigen::VectorXd r;
       Eigen::MatrixXd kt;
+      std::vector<int> support;
       try {
         double e = 0;
         Eigen::Vector3d f;
         const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
-                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f);
+                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
         energy += e;
         auto& out = points_[sp.point];
         out.active = true;
@@ -343,13 +370,11 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
         out.energy_density = e / qp.weight;
         out.force = -f;
         out.position = beam_x * basis.transpose();
+        for (int& i : support) i = sp.to_union[i];
+        a.add(first_element + n_pairs, support, r, with_tangent ? &kt : nullptr);
       } catch (const std::domain_error&) {
         bad = true;
-        const int n = 4 * static_cast<int>(beam_x.cols()) + 3 * static_cast<int>(window_x.cols());
-        r.setZero(n);
-        if (with_tangent) kt.setZero(n, n);
       }
-      a.add(first_element + n_pairs + k, r, with_tangent ? &kt : nullptr);
     }
   }
   invalid = bad;

@@ -99,10 +99,15 @@ class Coupling {
     // energy is continuous across the switch; kept when the window is re-centred (D changes by < e^-30).
     double offset = 0;
     bool calibrated = false;
+    std::vector<int> to_union;  // the point's local DOFs (beam CPs x 4, window CPs x 3) in the soft element
   };
   double beta() const;  // 1 / (width d_eq)
   Eigen::Vector3d beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   void update_soft_windows(const ShellBody& s);
+  // All soft points share one pattern element: the union of their beam elements' and windows' control
+  // points (their windows overlap almost entirely), each point adding the sub-block of its support.
+  void build_soft_element(const BeamBody& b);
+  std::vector<int> soft_beam_cps_, soft_shell_cps_;  // the soft element's control points, sorted
   double soft_width_ = 0, soft_below_ = 0;  // width 0: off
   std::vector<SoftPoint> soft_;
   std::vector<int> soft_of_;                                   // per quadrature point: index into soft_, or -1

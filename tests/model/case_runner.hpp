@@ -2,8 +2,10 @@
 // Test helpers: run a case (an example file, optionally edited, or YAML text) in a fresh temporary
 // directory through the library, and read its history.csv back as columns.
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
+#include <random>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -83,7 +85,7 @@ inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int th
 // A straight beam a little above a cylindrical panel (clamped at one edge), whose quadrature points
 // project across several panel elements: the coupled tangent tests. `interaction_keys` is appended to
 // the interaction's map (e.g. ", formulation: FF").
-inline std::string beam_over_panel_case(const std::string& interaction_keys) {
+inline std::string beam_over_panel_case(const std::string& interaction_keys, const std::string& law_keys = "") {
   return R"(
 shells:
   - name: panel
@@ -98,7 +100,7 @@ beams:
     material: {young: 1000, poisson: 0.3}
     section: {circle: {radius: 0.5}}
 interactions:
-  - {beam: fiber, shell: panel, lennard_jones: {epsilon: 50, sigma: 0.05})" + interaction_keys + R"(}
+  - {beam: fiber, shell: panel, lennard_jones: {epsilon: 50, sigma: 0.05)" + law_keys + R"(})" + interaction_keys + R"(}
 constraints:
   - {body: panel, at: {edge: v0}, fix: [x, y, z]}
   - {body: panel, at: {edge: v0}, clamp: true}
@@ -119,6 +121,38 @@ inline Eigen::MatrixXd finite_difference_tangent(model::Model& m, const Eigen::V
     k.col(j) = (rp - m.residual()) / (2.0 * h);
   }
   return k;
+}
+
+// The coupling's part of the reduced tangent of beam_over_panel_case(interaction_keys) at a random state
+// (entries of q uniform in +-0.01), against central differences (h = 1e-7) of the coupling's part of the
+// residual. The coupling is tiny next to the shell at the case's strength (entries ~1e-3 against ~2e4), so
+// a tolerance relative to the whole tangent could not see an error in it: it is isolated as the difference
+// of two models with interaction strengths 1e4 and 2e4 (nothing else depends on the strength), entries
+// ~10. `prepare` runs on each model before the tangent is taken (e.g. to switch points to the soft
+// minimum). Returns max |error| / max |entry| of the coupling's part.
+inline double coupling_tangent_error(const std::string& name, const std::string& interaction_keys, unsigned seed,
+                                     const std::function<void(model::Model&, const Eigen::VectorXd&)>& prepare) {
+  const auto dir = fresh_directory(name);
+  Eigen::VectorXd q;
+  Eigen::MatrixXd K[2], Kfd[2];
+  for (int k = 0; k < 2; ++k) {
+    std::ofstream(dir / "case.yaml") << beam_over_panel_case(interaction_keys, k == 0 ? ", strength: 1.0e4"
+                                                                                      : ", strength: 2.0e4");
+    auto c = model::read_case((dir / "case.yaml").string());
+    auto& m = *c.model;
+    if (k == 0) {
+      std::mt19937 rng(seed);
+      std::uniform_real_distribution<double> u(-0.01, 0.01);
+      q.resize(m.size());
+      for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
+    }
+    prepare(m, q);
+    m.evaluate(q, 1.0, true);
+    K[k] = Eigen::MatrixXd(m.tangent());
+    Kfd[k] = finite_difference_tangent(m, q, 1.0, 1e-7);
+  }
+  const Eigen::MatrixXd coupling = K[1] - K[0];
+  return (coupling - (Kfd[1] - Kfd[0])).cwiseAbs().maxCoeff() / coupling.cwiseAbs().maxCoeff();
 }
 
 }  // namespace fibrane::testing
