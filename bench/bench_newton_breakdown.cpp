@@ -58,6 +58,7 @@ class TimedSolver : public fibrane::solve::LinearSolver {
   }
   std::string name() const override { return inner_->name(); }
   long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  std::string analysis_summary() const override { return inner_->analysis_summary(); }
 
   double analyze_ = 0, factorize_ = 0;
   mutable double solve_ = 0;
@@ -161,8 +162,9 @@ int main(int argc, char** argv) {
   fmt::print("| pattern rebuilds (count) / time per iteration | {} / {:.2f} ms |\n", pt.pattern_rebuilds,
              pt.pattern * per);
   fmt::print("| loads, moments, reduction | {:.2f} ms |\n", pt.other * per);
-  fmt::print("| symbolic analyses (count) / time per iteration | {} / {:.2f} ms |\n", solver.analyses,
-             solver.analyze_ * per);
+  const std::string how = solver.analysis_summary();
+  fmt::print("| symbolic analyses (count{}) / time per iteration | {} / {:.2f} ms |\n", how.empty() ? "" : ": " + how,
+             solver.analyses, solver.analyze_ * per);
   fmt::print("| numeric factorisation per iteration | {:.2f} ms |\n", solver.factorize_ * per);
   fmt::print("| solve per iteration | {:.2f} ms |\n", solver.solve_ * per);
   fmt::print("| everything but factorisation / factorisation | {:.3f} |\n",

@@ -37,6 +37,76 @@ class CholmodSolver final : public LinearSolver {
   std::string name_;
 };
 
+// Supernodal LL^T that keeps its fill-reducing ordering across analyses. A new pattern that differs from
+// the last one only by the beam-shell coupling (points sliding to other shell elements, soft-minimum
+// windows) is analysed with the previous permutation (CHOLMOD_GIVEN: elimination tree and supernodes
+// only); a new ordering (AMD, and METIS where AMD's fill is high) is computed only when that permutation's
+// factor would be more than kRefill larger than the last freshly ordered one, or the size changed.
+class OrderingReusingLLT final : public LinearSolver {
+  struct Llt : Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> {
+    // analyzePattern() with the permutation `perm` (null: CHOLMOD's own choice). Returns the factor's
+    // non-zeros as the analysis predicts them.
+    double analyze(const SpMat& a, int* perm) {
+      cholmod_common& common = cholmod();
+      if (m_cholmodFactor) cholmod_free_factor(&m_cholmodFactor, &common);
+      cholmod_sparse view = Eigen::viewAsCholmod(a.selfadjointView<Eigen::Lower>());
+      if (perm != nullptr) {
+        const int nmethods = common.nmethods, ordering = common.method[0].ordering;
+        common.nmethods = 1;
+        common.method[0].ordering = CHOLMOD_GIVEN;
+        m_cholmodFactor = cholmod_analyze_p(&view, perm, nullptr, 0, &common);
+        common.nmethods = nmethods;
+        common.method[0].ordering = ordering;
+      } else {
+        m_cholmodFactor = cholmod_analyze(&view, &common);
+      }
+      m_isInitialized = true;
+      m_info = m_cholmodFactor ? Eigen::Success : Eigen::NumericalIssue;
+      m_analysisIsOk = m_cholmodFactor != nullptr;
+      m_factorizationIsOk = false;
+      return common.lnz;
+    }
+    std::vector<int> permutation() const {
+      const int* p = static_cast<const int*>(m_cholmodFactor->Perm);
+      return std::vector<int>(p, p + m_cholmodFactor->n);
+    }
+  };
+
+ public:
+  static constexpr double kRefill = 1.05;
+  OrderingReusingLLT() { llt_.cholmod().print = 0; }
+  void analyze(const SpMat& a) override {
+    if (static_cast<Eigen::Index>(perm_.size()) == a.rows()) {
+      const double lnz = llt_.analyze(a, perm_.data());
+      if (llt_.info() == Eigen::Success && lnz <= kRefill * fresh_lnz_) {
+        perm_ = llt_.permutation();
+        ++reused_;
+        return;
+      }
+    }
+    fresh_lnz_ = llt_.analyze(a, nullptr);
+    if (llt_.info() != Eigen::Success) throw std::runtime_error("CHOLMOD analysis failed");
+    perm_ = llt_.permutation();
+    ++fresh_;
+  }
+  bool factorize(const SpMat& a) override {
+    llt_.factorize(a);
+    return llt_.info() == Eigen::Success;
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return llt_.solve(b); }
+  std::string name() const override { return "cholmod"; }
+  long factor_nonzeros() const override { return static_cast<long>(llt_.cholmod().lnz); }
+  std::string analysis_summary() const override {
+    return std::to_string(fresh_) + " ordered, " + std::to_string(reused_) + " with the previous ordering";
+  }
+
+ private:
+  mutable Llt llt_;
+  std::vector<int> perm_;
+  double fresh_lnz_ = 0;
+  int fresh_ = 0, reused_ = 0;
+};
+
 // UMFPACK keeps pointers to the matrix for iterative refinement in solve(), so the solver owns a copy.
 class UmfpackSolver final : public LinearSolver {
   struct Lu : Eigen::UmfPackLU<SpMat> {
@@ -74,7 +144,7 @@ class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
   void analyze(const SpMat& a) override {
-    llt_ = std::make_unique<CholmodLLT>("cholmod");
+    if (!llt_) llt_ = std::make_unique<OrderingReusingLLT>();
     llt_->analyze(a);
     fallback_.reset();
     current_ = llt_.get();
@@ -102,6 +172,7 @@ class AutoSolver final : public LinearSolver {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
   std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
+  std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
 
  private:
   std::unique_ptr<LinearSolver> llt_, fallback_;
@@ -137,24 +208,27 @@ class SymmetryProbingSolver final : public LinearSolver {
     return std::string(symmetric_ ? "symmetric-" : "") + (current_ ? current_->name() : "auto(none)");
   }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
+  std::string analysis_summary() const override { return symmetric_chain_ ? symmetric_chain_->analysis_summary() : ""; }
 
  private:
   // mirror_[k] = value index of the entry transposed to entry k; empty if the pattern is not symmetric.
+  // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
+  // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
+  // (binary searches took ~1 s at the bending example's paper mesh).
   void build_mirror(const SpMat& a) {
     mirror_.clear();
     structurally_symmetric_ = false;
     if (a.rows() != a.cols() || !a.isCompressed()) return;
     const int* outer = a.outerIndexPtr();
     const int* inner = a.innerIndexPtr();
+    std::vector<int> next(outer, outer + a.cols());
     std::vector<int> mirror(static_cast<size_t>(a.nonZeros()));
     for (Eigen::Index col = 0; col < a.cols(); ++col)
       for (int k = outer[col]; k < outer[col + 1]; ++k) {
         const int row = inner[k];
-        const int* begin = inner + outer[row];
-        const int* end = inner + outer[row + 1];
-        const int* it = std::lower_bound(begin, end, static_cast<int>(col));
-        if (it == end || *it != col) return;
-        mirror[static_cast<size_t>(k)] = static_cast<int>(it - inner);
+        const int m = next[row]++;
+        if (m >= outer[row + 1] || inner[m] != col) return;
+        mirror[static_cast<size_t>(k)] = m;
       }
     mirror_ = std::move(mirror);
     structurally_symmetric_ = true;
@@ -173,15 +247,22 @@ class SymmetryProbingSolver final : public LinearSolver {
     }
     return difference <= 1e-12 * largest;
   }
+  // The symmetric chain is kept (with its ordering) while LU is in use.
   void pick(const SpMat& a) {
-    if (symmetric_) current_ = std::make_unique<AutoSolver>();
-    else current_ = std::make_unique<UmfpackSolver>();
+    if (symmetric_) {
+      if (!symmetric_chain_) symmetric_chain_ = std::make_unique<AutoSolver>();
+      current_ = symmetric_chain_.get();
+    } else {
+      if (!lu_) lu_ = std::make_unique<UmfpackSolver>();
+      current_ = lu_.get();
+    }
     current_->analyze(a);
   }
 
   bool symmetric_ = false, structurally_symmetric_ = false;
   std::vector<int> mirror_;
-  std::unique_ptr<LinearSolver> current_;
+  std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
+  LinearSolver* current_ = nullptr;
 };
 
 }  // namespace
