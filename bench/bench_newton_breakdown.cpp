@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "case_edit.hpp"
 #include "model/case_reader.hpp"
 #include "solve/continuation.hpp"
 #include "solve/linear_solver.hpp"
@@ -100,22 +101,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  if (!edits.empty()) {
-    std::ifstream in(path);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    std::string text = ss.str();
-    for (const auto& [from, to] : edits) {
-      const auto at = text.find(from);
-      if (at == std::string::npos) {
-        std::cerr << "--replace: '" << from << "' not found in " << path << "\n";
-        return 2;
-      }
-      text.replace(at, from.size(), to);
-    }
-    const auto edited = std::filesystem::temp_directory_path() / "bench_newton_breakdown.yaml";
-    std::ofstream(edited) << text;
-    path = edited.string();
+  try {
+    path = edited_case(path, edits);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
   }
   auto c = fibrane::model::read_case(path);
   auto& m = *c.model;

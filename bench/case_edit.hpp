@@ -1,0 +1,29 @@
+#pragma once
+// The bench programs' `--replace FROM TO`: a copy of a case file with text replaced (to change the mesh
+// of an example without editing it).
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+// The path of the edited copy (in the temporary directory), or `path` itself without edits. Throws
+// std::runtime_error if a FROM is not in the file.
+inline std::string edited_case(const std::string& path, const std::vector<std::pair<std::string, std::string>>& edits) {
+  if (edits.empty()) return path;
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str();
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    if (at == std::string::npos) throw std::runtime_error("--replace: '" + from + "' not found in " + path);
+    text.replace(at, from.size(), to);
+  }
+  const auto edited = std::filesystem::temp_directory_path() /
+                      (std::filesystem::path(path).stem().string() + "-edited.yaml");
+  std::ofstream(edited) << text;
+  return edited.string();
+}
