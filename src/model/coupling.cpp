@@ -103,7 +103,11 @@ void Coupling::update_soft_windows(const ShellBody& s) {
                                       interaction::soft_window_cell(soft_width_, d_eq), s.mirrors);
     if (soft_of_[i] < 0) {
       soft_of_[i] = static_cast<int>(soft_.size());
-      soft_.push_back({i, centre, std::move(w)});
+      SoftPoint sp;
+      sp.point = i;
+      sp.centre = centre;
+      sp.window = std::move(w);
+      soft_.push_back(std::move(sp));
     } else {
       soft_[soft_of_[i]].centre = centre;
       soft_[soft_of_[i]].window = std::move(w);

@@ -97,24 +97,24 @@ SparseAssembler::Pattern SparseAssembler::merge(int n, const Pattern& base, cons
 }
 
 void SparseAssembler::locate(ElementTable& t, const Pattern& p) {
-  t.pos_begin.assign(1, 0);
+  t.offset_begin.assign(1, 0);
   for (int e = 0; e < t.size(); ++e) {
     const size_t m = static_cast<size_t>(t.reduced_count(e));
-    t.pos_begin.push_back(t.pos_begin.back() + m * m);
+    t.offset_begin.push_back(t.offset_begin.back() + m * m);
   }
-  t.pos.resize(t.pos_begin.back());
-  const int* inner = p.inner.data();
+  t.offset.resize(t.offset_begin.back());
 #pragma omp parallel for schedule(dynamic, 64)
   for (int e = 0; e < t.size(); ++e) {
     const int* r = t.reduced.data() + t.reduced_begin[e];
     const int m = t.reduced_count(e);
-    int* pos = t.pos.data() + t.pos_begin[e];
+    int* offset = t.offset.data() + t.offset_begin[e];
     for (int s = 0; s < m; ++s) {
-      const int* col_end = inner + p.outer[r[s] + 1];
-      const int* it = inner + p.outer[r[s]];
+      const int* col_begin = p.inner.data() + p.outer[r[s]];
+      const int* col_end = p.inner.data() + p.outer[r[s] + 1];
+      const int* it = col_begin;
       for (int q = 0; q < m; ++q) {  // rows r[q] increase, so the search resumes where it stopped
         it = std::lower_bound(it, col_end, r[q]);
-        *pos++ = static_cast<int>(it - inner);
+        *offset++ = static_cast<int>(it - col_begin);
       }
     }
   }
@@ -160,16 +160,34 @@ void SparseAssembler::set_variable_elements(const std::vector<std::vector<int>>&
   variable_ = make_table(*constraints_, element_dofs, fixed_.size());
   std::vector<int> fixed_position;
   const Pattern p = merge(n, fixed_pattern_, variable_, fixed_position);
-  // The fixed elements' positions move with their entries: old matrix position -> new one.
-  if (fixed_position != fixed_in_matrix_) {
-    std::vector<int> moved(static_cast<size_t>(matrix_.nonZeros()), -1);
-    for (size_t k = 0; k < fixed_position.size(); ++k) moved[fixed_in_matrix_[k]] = fixed_position[k];
-    int* pos = fixed_.pos.data();
-    const std::ptrdiff_t count = static_cast<std::ptrdiff_t>(fixed_.pos.size());
-#pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t i = 0; i < count; ++i) pos[i] = moved[pos[i]];
-    fixed_in_matrix_ = std::move(fixed_position);
+  // A fixed entry keeps its offset within its column unless variable rows before it came or went: find
+  // those columns and map their old offsets to the new ones, then update the fixed elements there.
+  const int* old_outer = matrix_.outerIndexPtr();
+  std::vector<int> remap_begin(static_cast<size_t>(n), -1), remap;
+  for (int col = 0; col < n; ++col) {
+    bool moved = false;
+    for (int k = fixed_pattern_.outer[col]; k < fixed_pattern_.outer[col + 1] && !moved; ++k)
+      moved = fixed_in_matrix_[k] - old_outer[col] != fixed_position[k] - p.outer[col];
+    if (!moved) continue;
+    remap_begin[col] = static_cast<int>(remap.size());
+    remap.resize(remap.size() + static_cast<size_t>(old_outer[col + 1] - old_outer[col]), -1);
+    for (int k = fixed_pattern_.outer[col]; k < fixed_pattern_.outer[col + 1]; ++k)
+      remap[remap_begin[col] + fixed_in_matrix_[k] - old_outer[col]] = fixed_position[k] - p.outer[col];
   }
+  if (!remap.empty()) {
+#pragma omp parallel for schedule(dynamic, 256)
+    for (int e = 0; e < fixed_.size(); ++e) {
+      const int* r = fixed_.reduced.data() + fixed_.reduced_begin[e];
+      const int m = fixed_.reduced_count(e);
+      for (int s = 0; s < m; ++s) {
+        if (remap_begin[r[s]] < 0) continue;
+        const int* map = remap.data() + remap_begin[r[s]];
+        int* column = fixed_.offset.data() + fixed_.offset_begin[e] + static_cast<size_t>(s) * m;
+        for (int q = 0; q < m; ++q) column[q] = map[column[q]];
+      }
+    }
+  }
+  fixed_in_matrix_ = std::move(fixed_position);
   locate(variable_, p);
   set_matrix(p);
   reset_vectors();
@@ -220,20 +238,23 @@ void SparseAssembler::scatter(const ElementTable& t, int e, int n, Local local, 
   if (!k_local || !with_matrix_) return;
   // K_red += T_e^T k T_e, walking k column by column (column-major storage).
   const int m = t.reduced_count(e);
-  const int* pos = t.pos.data() + t.pos_begin[static_cast<size_t>(e)];
+  const int* offset = t.offset.data() + t.offset_begin[static_cast<size_t>(e)];
+  const int* reduced = t.reduced.data() + t.reduced_begin[static_cast<size_t>(e)];
+  const int* outer = matrix_.outerIndexPtr();
   const int* eb = t.entry_begin.data() + first;
   const int* slot = t.entry_slot.data();
   const double* coef = t.entry_coef.data();
   for (int b = 0; b < n; ++b) {
     const int lb = local(b);
     for (int jb = eb[lb]; jb < eb[lb + 1]; ++jb) {
-      const int* column = pos + static_cast<size_t>(slot[jb]) * m;
+      const int* column = offset + static_cast<size_t>(slot[jb]) * m;
+      double* column_values = values + outer[reduced[slot[jb]]];
       const double cb = coef[jb];
       for (int a = 0; a < n; ++a) {
         const int la = local(a);
         const double kab = (*k_local)(a, b) * cb;
         for (int ja = eb[la]; ja < eb[la + 1]; ++ja) {
-          double& target = values[column[slot[ja]]];
+          double& target = column_values[column[slot[ja]]];
           const double v = coef[ja] * kab;
           if (atomic) {
 #pragma omp atomic

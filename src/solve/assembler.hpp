@@ -8,7 +8,9 @@
 // set_variable_elements(), which merges their blocks into the fixed pattern without rebuilding it: at the
 // bending example's paper mesh (40.7 M fixed non-zeros) a full rebuild took ~5.3 s, a variable-only one is
 // measured in docs/performance.md. For every element a table of positions into the matrix value array is
-// kept, so add() is a pure scatter without searching.
+// kept, so add() is a pure scatter without searching. The positions are offsets within their column, so
+// that a new variable part moves only the fixed entries of the columns where variable rows come before
+// them (the shell's columns under soft-minimum windows; beam rows follow the shell's in every column).
 // Concurrency: each OpenMP thread scatters into its own value/residual buffer (thread 0 straight into the
 // matrix), end() sums and clears them in one pass. Measured scatter-only on a cubic-shell-like pattern
 // (9409 elements of 48 DOFs, 4.2 M nonzeros): 26 ms plain, 128 ms with `omp atomic` adds (1 thread), i.e.
@@ -38,7 +40,7 @@ class SparseAssembler {
   // use. Increments pattern_version().
   void set_pattern(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs);
   // Replaces the variable elements (ids num_fixed_elements(), ...). Costs the variable elements' blocks
-  // plus one pass over the fixed elements' position tables. Increments pattern_version().
+  // plus one pass over the fixed pattern. Increments pattern_version().
   void set_variable_elements(const std::vector<std::vector<int>>& element_dofs);
   int pattern_version() const { return version_; }
   int num_fixed_elements() const { return fixed_.size(); }
@@ -67,14 +69,15 @@ class SparseAssembler {
   // Flattened element maps. Element e owns local DOFs [dof_begin[e], dof_begin[e+1]) of dofs; local DOF j
   // expands into entries [entry_begin[j], entry_begin[j+1]) = (slot, coefficient), slot being the index in
   // the element's sorted list of reduced unknowns reduced[reduced_begin[e] ...] (m of them); the
-  // value-array position of (row slot p, column slot s) is pos[pos_begin[e] + s * m + p].
+  // value-array position of (row slot p, column slot s) is outer[reduced[s]] + offset[offset_begin[e] + s * m + p]
+  // (outer: the matrix's column starts).
   struct ElementTable {
     std::vector<int> dof_begin{0}, dofs;
     std::vector<int> entry_begin{0}, entry_slot;
     std::vector<double> entry_coef;
     std::vector<int> reduced_begin{0}, reduced;
-    std::vector<size_t> pos_begin{0};
-    std::vector<int> pos;
+    std::vector<size_t> offset_begin{0};
+    std::vector<int> offset;
     int size() const { return static_cast<int>(dof_begin.size()) - 1; }
     int reduced_count(int e) const { return reduced_begin[static_cast<size_t>(e) + 1] - reduced_begin[static_cast<size_t>(e)]; }
   };
@@ -84,7 +87,7 @@ class SparseAssembler {
   static ElementTable make_table(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs, int first_id);
   // The union of `base` and the elements' blocks; base_position[k] = where base entry k went.
   static Pattern merge(int n, const Pattern& base, const ElementTable& t, std::vector<int>& base_position);
-  static void locate(ElementTable& t, const Pattern& p);  // fills t.pos
+  static void locate(ElementTable& t, const Pattern& p);  // fills t.offset
   void set_matrix(const Pattern& p);
   void reset_vectors();
 
