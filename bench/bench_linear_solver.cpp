@@ -1,7 +1,7 @@
 // The sparse solver on a case's tangent at t = 0 (undeformed, after one evaluation):
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]...
-// prints the time of a first symbolic analysis (fill-reducing ordering), of a second one of the same
-// pattern (which keeps the ordering), of the numeric factorisation and of a solve, for the solver the
+// prints the time of a first symbolic analysis (fill-reducing ordering: CHOLMOD's choice), of a second one
+// (only the method that won the first), of the numeric factorisation and of a solve, for the solver the
 // case asks for as fibrane builds it (for a model with point moments: with the symmetry probe) and for the
 // symmetric chain alone (the difference is the probe's cost).
 #include <omp.h>
@@ -57,8 +57,8 @@ int main(int argc, char** argv) {
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(k.rows());
   fmt::print("case {}: {} unknowns, {} matrix non-zeros, {} threads\n", argv[1], k.rows(), k.nonZeros(),
              omp_get_max_threads());
-  fmt::print("| solver | first analysis | second analysis | factorisation | solve | factor non-zeros |\n");
-  fmt::print("|---|---|---|---|---|---|\n");
+  fmt::print("| solver | first analysis | second analysis | factorisation | solve | factor non-zeros | analyses |\n");
+  fmt::print("|---|---|---|---|---|---|---|\n");
   for (const bool symmetric : {m.symmetric(), true}) {
     auto solver = fibrane::solve::make_linear_solver(c.run.linear_solver, symmetric);
     bool ok = false;
@@ -67,8 +67,8 @@ int main(int argc, char** argv) {
     const double factor = seconds([&] { ok = solver->factorize(k); });
     Eigen::VectorXd x;
     const double solve = seconds([&] { x = solver->solve(b); });
-    fmt::print("| {}{} | {:.3f} s | {:.3f} s | {:.3f} s | {:.3f} s | {} |\n", solver->name(), ok ? "" : " (failed)",
-               first, second, factor, solve, solver->factor_nonzeros());
+    fmt::print("| {}{} | {:.3f} s | {:.3f} s | {:.3f} s | {:.3f} s | {} | {} |\n", solver->name(), ok ? "" : " (failed)",
+               first, second, factor, solve, solver->factor_nonzeros(), solver->analysis_summary());
   }
   return 0;
 }

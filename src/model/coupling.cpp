@@ -39,8 +39,10 @@ constexpr double kBranchMargin = 1e-3;
 constexpr double kJump = 0.1, kJumpRatio = 10;
 
 // A soft-minimum window (interaction::soft_window_half_width) is re-centred after a step in which its
-// point's closest point moved by more than kRecentre of its half-width.
-constexpr double kRecentre = 0.25;
+// point's closest point moved by more than kRecentre of its half-width; when the soft element changes
+// anyway (a switch or such a re-centre), windows whose point moved by more than kRecentreAlong are
+// re-centred with it: each change of the element is a new sparsity pattern and symbolic factorisation.
+constexpr double kRecentre = 0.25, kRecentreAlong = 0.1;
 
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
@@ -218,6 +220,7 @@ void Coupling::build_soft_element(const BeamBody& b) {
 
 void Coupling::accept() {
   if (soft_width_ > 0) {
+    std::vector<std::pair<int, Eigen::Vector2d>> along;
     for (std::size_t i = 0; i < quad_.size(); ++i) {
       const auto& p = projection_[i];
       if (p.where != interaction::ShellProximity::Projection::Where::interior) continue;
@@ -226,10 +229,12 @@ void Coupling::accept() {
         if (p.relative_curvature < soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
       } else {
         const SoftPoint& sp = soft_[soft_of_[i]];
-        if (((theta - sp.centre).array().abs() > kRecentre * sp.window.half_extent.array()).any())
-          soft_requests_.emplace_back(static_cast<int>(i), theta);
+        const double moved = ((theta - sp.centre).array().abs() / sp.window.half_extent.array()).maxCoeff();
+        if (moved > kRecentre) soft_requests_.emplace_back(static_cast<int>(i), theta);
+        else if (moved > kRecentreAlong) along.emplace_back(static_cast<int>(i), theta);
       }
     }
+    if (!soft_requests_.empty()) soft_requests_.insert(soft_requests_.end(), along.begin(), along.end());
   }
   warm_ = last_;
   std::fill(jump_.begin(), jump_.end(), 0.0);

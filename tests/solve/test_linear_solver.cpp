@@ -187,29 +187,25 @@ SpMat with_links(const SpMat& a, const std::vector<std::pair<int, int>>& links) 
   return b;
 }
 
-// A new pattern that only adds a few local couplings keeps the fill-reducing ordering (the analysis is
-// then only the elimination tree); one whose fill under the old ordering grows by more than 5 % gets a
-// new ordering. Either way the solutions are right, for the symmetric kind and for the probing one.
-TEST(LinearSolver, AutoKeepsItsOrderingWhileTheFillStaysLow) {
+// The first analysis lets CHOLMOD choose the ordering; later ones (new patterns) run only the method that
+// won. The solutions stay right for every pattern, for the symmetric kind and for the probing one.
+TEST(LinearSolver, AutoKeepsTheOrderingMethodOfItsFirstAnalysis) {
   const int m = 30;
   const SpMat base = grid_matrix(m, 0.1, 0.0);
-  const SpMat local = with_links(base, {{31, 33}, {400, 462}});
   std::vector<std::pair<int, int>> far;
   for (int k = 0; k < 60; ++k) far.emplace_back((k * 37) % (m * m), (k * 37 + 450) % (m * m));
-  const SpMat global = with_links(base, far);
+  const SpMat linked = with_links(base, far);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(m * m, -1.0, 2.0);
   for (const bool promised : {true, false}) {
     auto solver = make_linear_solver("auto", promised);
-    const std::vector<std::pair<const SpMat*, const char*>> sequence = {
-        {&base, "1 ordered, 0 with the previous ordering"},
-        {&local, "1 ordered, 1 with the previous ordering"},
-        {&global, "2 ordered, 1 with the previous ordering"}};
-    for (const auto& [a, summary] : sequence) {
+    int k = 0;
+    for (const SpMat* a : {&base, &linked, &base}) {
       solver->analyze(*a);
       ASSERT_TRUE(solver->factorize(*a));
       const Eigen::VectorXd ref = Eigen::MatrixXd(*a).llt().solve(b);
       EXPECT_LT(relative_error(solver->solve(b), ref), 1e-12);
-      EXPECT_EQ(solver->analysis_summary(), summary) << (promised ? "symmetric" : "probing");
+      // A small grid's fill is low: CHOLMOD's default stops at AMD.
+      EXPECT_EQ(solver->analysis_summary(), std::to_string(++k) + " with AMD") << (promised ? "symmetric" : "probing");
     }
   }
 }
