@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
@@ -138,6 +139,40 @@ void BM_SoftPoint(benchmark::State& state) {
   state.counters["support_dofs"] = static_cast<double>(support.size());
 }
 BENCHMARK(BM_SoftPoint)->ArgName("width_1e4")->Arg(5)->Arg(20)->Unit(benchmark::kMillisecond);
+
+// The same point where the shell wraps around it, as at the fiber's end when points switch: a cylindrical
+// shell of radius R = d_eq / 0.95 about an axis through the point (relative curvature 1 - d / R = 0.05,
+// the example's `below`), elements of the paper mesh's size (0.05). Every sample across the arc is at the
+// same distance, so the support is as wide as the window across it.
+void BM_SoftPointWrapped(benchmark::State& state) {
+  const SoftSetup setup(5e-4);
+  const double R = setup.d_eq / 0.95;
+  spline::NurbsSurface shell = spline::make_cylinder_patch(R, 2.0, 0.0, std::numbers::pi);
+  shell.refine(0, 4, 1, static_cast<int>(std::ceil(std::numbers::pi * R / 0.05)));  // u: the arc
+  shell.refine(1, 4, 1, 40);                                                          // v: x in [0, 2]
+  const interaction::SoftWindow w = interaction::make_soft_window(
+      shell, {0.5, 0.5}, interaction::soft_window_half_width(setup.width, setup.d_eq),
+      interaction::soft_window_cell(setup.width, setup.d_eq), {});
+  Eigen::Matrix3Xd x(3, w.control_points.size());
+  for (std::size_t a = 0; a < w.control_points.size(); ++a) x.col(a) = shell.control_points()[w.control_points[a]];
+  const Eigen::Vector3d axis_point(1.0, 0.0, 0.0);  // the cylinder's axis is x
+  Eigen::Matrix3Xd beam_x(3, 5);
+  for (int i = 0; i < 5; ++i) beam_x.col(i) = axis_point;
+  const double beta = 1.0 / (setup.width * setup.d_eq);
+  Eigen::VectorXd r;
+  Eigen::MatrixXd k;
+  std::vector<int> support;
+  for (auto _ : state) {
+    double e = 0;
+    interaction::add_soft_rf2_point(setup.law, beta, setup.basis, beam_x, w, x, 0.0, 0.01, &e, &r, &k, nullptr,
+                                    &support);
+    benchmark::DoNotOptimize(k.data());
+  }
+  state.counters["samples"] = w.num_samples();
+  state.counters["window_points"] = static_cast<double>(w.control_points.size());
+  state.counters["support_dofs"] = static_cast<double>(support.size());
+}
+BENCHMARK(BM_SoftPointWrapped)->Unit(benchmark::kMillisecond);
 
 void BM_SoftWindow(benchmark::State& state) {
   const SoftSetup setup(state.range(0) * 1e-4);

@@ -52,6 +52,9 @@ struct SoftWindow {
   std::vector<double> weight;       // Gauss weight x reference area element, per sample
   std::vector<int> local;           // sample-major: basis_size local control point indices per sample
   std::vector<double> basis;        // sample-major: their values
+  // Samples of the j-th shell element in the window: [element_begin[j], element_begin[j + 1]); they share
+  // their local control point indices (in the same order).
+  std::vector<int> element_begin{0};
   std::vector<ShellImage> images;   // identity first
   Eigen::Vector2d half_extent = Eigen::Vector2d::Zero();  // the parameter half-widths asked for
   int num_samples() const { return static_cast<int>(weight.size()); }
