@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <functional>
 
 #include "solve/nonlinear.hpp"
@@ -228,15 +229,16 @@ class ScalarSystem final : public NonlinearSystem {
     k_.insert(0, 0) = 1;
   }
   int size() const override { return 1; }
-  void evaluate(const Eigen::VectorXd& q, double, bool) override {
+  void evaluate(const Eigen::VectorXd& q, double, bool with_tangent) override {
     r_[0] = r_of_(q[0]);
-    k_.coeffRef(0, 0) = k_of_(q[0]);
+    k_.coeffRef(0, 0) = with_tangent ? k_of_(q[0]) : std::numeric_limits<double>::quiet_NaN();
     ++evaluations;
+    tangents += with_tangent;
   }
   const Eigen::VectorXd& residual() const override { return r_; }
   const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
   int pattern_version() const override { return 1; }
-  int evaluations = 0;
+  int evaluations = 0, tangents = 0;
 
  private:
   std::function<double(double)> r_of_, k_of_;
@@ -270,6 +272,43 @@ TEST(Newton, LineSearchTurnsADivergingIterationIntoAConvergingOne) {
   EXPECT_GT(rep.backtracks, 0);
   // every evaluation is either an iterate or a halving
   EXPECT_EQ(damped.evaluations, rep.iterations + rep.backtracks + 1);
+}
+
+// r(q) = q^3 + q - 2 (root 1) from q = 3: quadratic convergence, so once an update predicts the next
+// residual below the tolerance that iterate is evaluated without a tangent, and every tangent assembled is
+// factorised (a tangent of NaN would fail the factorisation if it were used). With the tolerance between
+// the predicted and the actual residual of an iterate, the prediction fails: that iterate is evaluated
+// again with its tangent, and Newton still reaches the root.
+TEST(Newton, AssemblesNoTangentForAnIteratePredictedConverged) {
+  auto cubic = [] { return ScalarSystem([](double q) { return q * q * q + q - 2; }, [](double q) { return 3 * q * q + 1; }); };
+  auto solver = make_linear_solver("auto", true);
+  NewtonOptions opt;
+  opt.tol_relative = 0;
+  opt.tol_absolute = 1e-12;
+  ScalarSystem sys = cubic();
+  Eigen::VectorXd q = Eigen::VectorXd::Constant(1, 3.0);
+  const NewtonReport rep = newton_solve(sys, q, 1.0, opt, *solver);
+  ASSERT_TRUE(rep.converged) << rep.failure;
+  EXPECT_NEAR(q[0], 1.0, 1e-12);
+  EXPECT_EQ(sys.tangents, rep.factorizations);
+  EXPECT_EQ(sys.evaluations, rep.iterations + 1);
+  // The residuals of that run: choose a tolerance that the prediction from iterate k claims for k + 1
+  // but iterate k + 1 misses (its contraction is slower than squared).
+  const auto& h = rep.history;
+  bool tried = false;
+  for (std::size_t k = 1; k + 1 < h.size() && !tried; ++k) {
+    const double predicted = h[k] * (h[k] / h[k - 1]) * (h[k] / h[k - 1]);
+    if (!(predicted < h[k + 1])) continue;
+    opt.tol_absolute = std::sqrt(predicted * h[k + 1]);
+    ScalarSystem missed = cubic();
+    q.setConstant(3.0);
+    const NewtonReport again = newton_solve(missed, q, 1.0, opt, *solver);
+    ASSERT_TRUE(again.converged) << again.failure;
+    EXPECT_EQ(missed.tangents, again.factorizations);
+    EXPECT_EQ(missed.evaluations, again.iterations + 2);  // one iterate evaluated twice
+    tried = true;
+  }
+  EXPECT_TRUE(tried) << "no iterate converged slower than its prediction: " << ::testing::PrintToString(h);
 }
 
 // r(q) = q^3 - 2 q + 2 from q = 0: Newton goes 0 -> 1 -> 0 -> ... for ever (the classic two-cycle).
