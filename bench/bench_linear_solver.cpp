@@ -32,17 +32,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::vector<std::pair<std::string, std::string>> edits;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--threads" && i + 1 < argc) omp_set_num_threads(std::stoi(argv[++i]));
-    else if (a == "--replace" && i + 2 < argc) {
-      edits.emplace_back(argv[i + 1], argv[i + 2]);
-      i += 2;
-    } else {
-      std::cerr << "unknown argument " << a << "\n";
+  for (int i = 2; i < argc; ++i)
+    if (!common_option(argc, argv, i, edits)) {
+      std::cerr << "unknown argument " << argv[i] << "\n";
       return 2;
     }
-  }
   std::string path;
   try {
     path = edited_case(argv[1], edits);

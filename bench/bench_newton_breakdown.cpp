@@ -91,12 +91,8 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--t-end" && i + 1 < argc) t_end = std::stod(argv[++i]);
-    else if (a == "--threads" && i + 1 < argc) omp_set_num_threads(std::stoi(argv[++i]));
     else if (a == "--reuse" && i + 1 < argc) reuse = std::stod(argv[++i]);
-    else if (a == "--replace" && i + 2 < argc) {
-      edits.emplace_back(argv[i + 1], argv[i + 2]);
-      i += 2;
-    } else {
+    else if (!common_option(argc, argv, i, edits)) {
       std::cerr << "unknown argument " << a << "\n";
       return 2;
     }

@@ -1,6 +1,8 @@
 #pragma once
-// The bench programs' `--replace FROM TO`: a copy of a case file with text replaced (to change the mesh
-// of an example without editing it).
+// The bench programs' common options: `--threads N` and `--replace FROM TO` (a copy of a case file with
+// text replaced, to change the mesh of an example without editing it).
+#include <omp.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -26,4 +28,19 @@ inline std::string edited_case(const std::string& path, const std::vector<std::p
                       (std::filesystem::path(path).stem().string() + "-edited.yaml");
   std::ofstream(edited) << text;
   return edited.string();
+}
+
+// Consumes argv[i] (and its values) if it is --threads or --replace; returns false for other arguments.
+inline bool common_option(int argc, char** argv, int& i, std::vector<std::pair<std::string, std::string>>& edits) {
+  const std::string a = argv[i];
+  if (a == "--threads" && i + 1 < argc) {
+    omp_set_num_threads(std::stoi(argv[++i]));
+    return true;
+  }
+  if (a == "--replace" && i + 2 < argc) {
+    edits.emplace_back(argv[i + 1], argv[i + 2]);
+    i += 2;
+    return true;
+  }
+  return false;
 }
