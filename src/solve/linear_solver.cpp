@@ -14,63 +14,44 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// CHOLMOD factorisations (lower triangle of a symmetric matrix). Wrapper exposes the factor size.
+// CHOLMOD factorisations (lower triangle of a symmetric matrix), remembering which fill-reducing ordering
+// won. CHOLMOD's default tries AMD and, where AMD's fill is high, METIS too, and keeps the better; a
+// model's later patterns differ from the first only by the beam-shell coupling, so later analyses run only
+// the method that won the first. At the bending example's paper mesh METIS wins (1 % less fill than AMD)
+// and an analysis takes 1.18 s instead of 1.37 s. (Keeping the previous permutation itself for a new
+// pattern was measured too: after a change of the coupling its factor was 4-10 % larger than a fresh
+// ordering's, which costs more in the factorisations than the ordering does.)
 template <class Factorization>
 class CholmodSolver final : public LinearSolver {
  public:
   explicit CholmodSolver(std::string name) : name_(std::move(name)) {
     fact_.cholmod().print = 0;  // failures are reported through factorize()'s return value
   }
-  void analyze(const SpMat& a) override { fact_.analyzePattern(a); }
+  void analyze(const SpMat& a) override {
+    cholmod_common& common = fact_.cholmod();
+    if (chosen_ >= 0) {
+      common.nmethods = 1;
+      common.method[0].ordering = chosen_;
+    }
+    fact_.analyzePattern(a);
+    if (chosen_ < 0 && fact_.info() == Eigen::Success) chosen_ = common.method[common.selected].ordering;
+    ++analyses_;
+  }
   bool factorize(const SpMat& a) override {
     fact_.factorize(a);
     return fact_.info() == Eigen::Success;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return fact_.solve(b); }
   std::string name() const override { return name_; }
-  long factor_nonzeros() const override {
-    return static_cast<long>(const_cast<Factorization&>(fact_).cholmod().lnz);
-  }
-
- private:
-  Factorization fact_;
-  std::string name_;
-};
-
-// Supernodal LL^T that remembers which fill-reducing ordering won. CHOLMOD's default tries AMD and, where
-// AMD's fill is high, METIS too, and keeps the better; a model's later patterns differ from the first only
-// by the beam-shell coupling, so later analyses run only the method that won the first. At the bending
-// example's paper mesh METIS wins (1 % less fill than AMD) and an analysis takes 1.18 s instead of 1.37 s.
-// (Keeping the previous permutation itself for a new pattern was measured too: after a change of the
-// coupling its factor was 4-10 % larger than a fresh ordering's, which costs more in the factorisations
-// than the ordering does.)
-class OrderingMemoryLLT final : public LinearSolver {
- public:
-  OrderingMemoryLLT() { llt_.cholmod().print = 0; }
-  void analyze(const SpMat& a) override {
-    cholmod_common& common = llt_.cholmod();
-    if (chosen_ >= 0) {
-      common.nmethods = 1;
-      common.method[0].ordering = chosen_;
-    }
-    llt_.analyzePattern(a);
-    if (chosen_ < 0 && llt_.info() == Eigen::Success) chosen_ = common.method[common.selected].ordering;
-    ++analyses_;
-  }
-  bool factorize(const SpMat& a) override {
-    llt_.factorize(a);
-    return llt_.info() == Eigen::Success;
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return llt_.solve(b); }
-  std::string name() const override { return "cholmod"; }
-  long factor_nonzeros() const override { return static_cast<long>(llt_.cholmod().lnz); }
+  long factor_nonzeros() const override { return static_cast<long>(fact_.cholmod().lnz); }
   std::string analysis_summary() const override {
     const char* method = chosen_ == CHOLMOD_METIS ? "METIS" : chosen_ == CHOLMOD_AMD ? "AMD" : "CHOLMOD's choice";
     return std::to_string(analyses_) + " with " + method;
   }
 
  private:
-  mutable Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> llt_;
+  mutable Factorization fact_;
+  std::string name_;
   int chosen_ = -1;  // the ordering method of the first analysis (CHOLMOD_AMD, CHOLMOD_METIS, ...)
   int analyses_ = 0;
 };
@@ -112,7 +93,7 @@ class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
   void analyze(const SpMat& a) override {
-    if (!llt_) llt_ = std::make_unique<OrderingMemoryLLT>();
+    if (!llt_) llt_ = std::make_unique<CholmodLLT>("cholmod");
     llt_->analyze(a);
     fallback_.reset();
     current_ = llt_.get();

@@ -18,7 +18,7 @@ class LinearSolver {
   virtual Eigen::VectorXd solve(const Eigen::VectorXd& b) const = 0;
   virtual std::string name() const = 0;
   virtual long factor_nonzeros() const = 0;
-  // How the analyses went (e.g. how many reused a fill-reducing ordering), for reports; may be empty.
+  // How the analyses went (how many, with which ordering method), for reports; may be empty.
   virtual std::string analysis_summary() const { return {}; }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
