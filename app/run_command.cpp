@@ -23,10 +23,10 @@ void register_run_command(CLI::App& app) {
     // Reading the whole case first: bad input stops here, before any output file exists.
     model::Case c = model::read_case(opt->case_file);
     const auto s = model::run_case(c, opt->run);
-    std::cout << "fibrane: " << (s.result.completed ? "completed" : "stopped") << " at t = " << s.result.t_reached
+    std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
               << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
               << s.wall_seconds << " s; results in " << s.directory << "\n";
-    if (!s.result.completed) {
+    if (!s.result.completed()) {
       std::cerr << "fibrane: " << s.result.message << "\n";
       throw CLI::RuntimeError(1);
     }

@@ -18,7 +18,7 @@
 
 #include "case_edit.hpp"
 #include "model/case_reader.hpp"
-#include "solve/continuation.hpp"
+#include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace {
@@ -113,8 +113,7 @@ int main(int argc, char** argv) {
   std::vector<int> iterations;
   int updates = 0;
   const auto t0 = clock_type::now();
-  const auto result = fibrane::solve::run_continuation(
-      m, q, c.run.steps, c.run.newton, solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
+  const auto result = fibrane::solve::LoadStepping(c.run.steps, c.run.newton).run(m, q, solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
         iterations.push_back(r.iterations);
         updates += r.iterations;
         return true;
@@ -129,7 +128,7 @@ int main(int argc, char** argv) {
   if (!iterations.empty()) mean_iterations /= iterations.size();
   const double not_factorisation = pt.shell + pt.beam + pt.projection + pt.interaction + pt.pattern + pt.other +
                                    solver.analyze_ + solver.solve_;
-  fmt::print("case {}: {} ({}, {} threads)\n", c.path, result.completed ? "completed" : result.message,
+  fmt::print("case {}: {} ({}, {} threads)\n", c.path, result.completed() ? "completed" : result.message,
              solver.name(), omp_get_max_threads());
   fmt::print("| quantity | value |\n|---|---|\n");
   fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
@@ -159,5 +158,5 @@ int main(int argc, char** argv) {
   fmt::print("| updates of converged steps / factorisations (reuse {}) | {} / {} |\n", c.run.newton.reuse_below,
              updates, solver.factorizations);
   fmt::print("| wall time | {:.2f} s |\n| peak memory | {:.1f} MiB |\n", wall, peak_memory_kib() / 1024.0);
-  return result.completed ? 0 : 1;
+  return result.completed() ? 0 : 1;
 }

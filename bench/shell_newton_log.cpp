@@ -9,7 +9,7 @@
 #include <exception>
 
 #include "model/case_reader.hpp"
-#include "solve/continuation.hpp"
+#include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace {
@@ -34,9 +34,7 @@ int main(int argc, char** argv) {
     auto solver = fibrane::solve::make_linear_solver(c.run.linear_solver, m.symmetric());
     Eigen::VectorXd q = m.initial_unknowns();
     std::printf("step,t,iteration,residual,contraction,order\n");
-    const auto result = fibrane::solve::run_continuation(
-        m, q, c.run.steps, c.run.newton, *solver,
-        [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
+    const auto result = fibrane::solve::LoadStepping(c.run.steps, c.run.newton).run(m, q, *solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
           if (r.step > max_print) return true;
           const auto& h = r.history;
           for (std::size_t k = 0; k < h.size(); ++k) {
@@ -47,9 +45,9 @@ int main(int argc, char** argv) {
           return true;
         });
     std::fprintf(stderr, "%s: %s at t = %g after %d steps, %d Newton iterations\n", c.name.c_str(),
-                 result.completed ? "completed" : "stopped", result.t_reached, result.steps,
+                 result.completed() ? "completed" : "stopped", result.t_reached, result.steps,
                  result.total_iterations);
-    return result.completed ? 0 : 1;
+    return result.completed() ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

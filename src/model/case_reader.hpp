@@ -6,7 +6,7 @@
 #include <string>
 
 #include "model/model.hpp"
-#include "solve/continuation.hpp"
+#include "solve/load_stepping.hpp"
 #include "solve/nonlinear.hpp"
 
 namespace fibrane::model {

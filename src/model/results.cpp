@@ -225,7 +225,7 @@ void RunOutput::write_summary(const Model& m, const solve::ContinuationResult& r
   io::JsonValue j = io::JsonValue::object();
   j.set("case", case_.path).set("title", m.title).set("fibrane_version", FIBRANE_VERSION);
   j.set("dofs", m.dofs.size()).set("free_dofs", m.constraints.num_free()).set("elements", m.num_elements());
-  j.set("completed", result.completed).set("message", result.message);
+  j.set("completed", result.completed()).set("message", result.message);
   j.set("t_reached", result.t_reached).set("steps", result.steps).set("newton_iterations", result.total_iterations);
   j.set("wall_seconds", wall_seconds).set("linear_solver", solver_name);
   io::JsonValue monitors = io::JsonValue::object();

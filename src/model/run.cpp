@@ -10,6 +10,7 @@
 #include "io/progress.hpp"
 #include "model/results.hpp"
 #include "solve/linear_solver.hpp"
+#include "solve/load_stepping.hpp"
 
 namespace fibrane::model {
 
@@ -42,7 +43,7 @@ RunSummary run_case(Case& c, const RunOptions& options) {
     const solve::StepReport report{1, t, t, 1, m.residual().norm(), 0, {}};
     out.write_history(m, report);
     out.write_vtk(m, report);
-    summary.result = {true, t, 1, 1, "linear analysis"};
+    summary.result = {solve::Outcome::reached_end, t, 1, 1, "linear analysis"};
     summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
     return summary;
@@ -53,8 +54,9 @@ RunSummary run_case(Case& c, const RunOptions& options) {
   if (!c.run.stop_column.empty()) peak = std::abs(out.last_value(c.run.stop_column));
   bool stopped_by_condition = false;
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
-  summary.result = solve::run_continuation(
-      m, q, c.run.steps, newton, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+  solve::StepControl steps = c.run.steps;
+  steps.stop_at_limit_point = c.run.stop_at_limit_point;
+  summary.result = solve::LoadStepping(steps, newton).run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
         out.write_history(m, r);
         bool stop = false;
         if (!c.run.stop_column.empty()) {
@@ -67,18 +69,11 @@ RunSummary run_case(Case& c, const RunOptions& options) {
         if (stop) stopped_by_condition = true;
         return !stop;
       });
-  if (!summary.result.completed && summary.result.step_too_small && c.run.stop_at_limit_point &&
-      summary.result.steps > 0) {
-    summary.result.completed = true;
-    summary.result.message = "ended at a limit point after t = " + std::to_string(summary.result.t_reached) +
-                             " (no equilibrium could be continued: for displacement-driven adhesion, pull-off)";
-  }
   if (stopped_by_condition) {
-    summary.result.completed = true;
     summary.result.message = "stopped: " + c.run.stop_column + " fell below " + std::to_string(c.run.stop_fraction) +
                              " of its peak";
   }
-  progress.finish(summary.result.completed ? "done" : "stopped: " + summary.result.message);
+  progress.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
   return summary;

@@ -1,46 +1,70 @@
 #pragma once
-// Quasi-time continuation (paper Sec. 2.3: the forcing term is incremented and equilibrium is found by
-// Newton's method at a finite number of quasi-time steps), with automatic cut-back and growth of the step.
+// Continuation methods: how a run marches along the equilibrium path of a NonlinearSystem (paper
+// Sec. 2.3: the forcing term is incremented and each increment is solved by Newton's method). Every
+// method is one class behind ContinuationMethod; the run driver picks one by name from the case file
+// (steps.method) and knows nothing of its inner workings.
 #include <functional>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include <Eigen/Dense>
 
 #include "solve/nonlinear.hpp"
 
 namespace fibrane::solve {
 
-struct StepControl {
-  double t_start = 0.0;
-  double t_end = 1.0, dt_initial = 0.1, dt_min = 1e-8, dt_max = 0.1;
-  int easy_iterations = 4;   // a step converging in at most this many iterations lets dt grow
-  double growth = 1.5, cutback = 0.5;
-  int max_steps = 100000;
-  bool extrapolate = true;   // secant predictor from the last two converged states
+// One converged point of the path.
+struct StepReport {
+  int step = 0;          // 1-based count of converged steps (0: the initial state)
+  double t = 0, dt = 0;  // load parameter (quasi-time or time) and its increment
+  int iterations = 0;    // Newton iterations of the converged attempt
+  double residual_norm = 0;
+  int cutbacks = 0;              // failed attempts before this step converged
+  std::vector<double> history;   // residual norms of the converged attempt
+  int negative_eigenvalues = -1;  // of the reduced tangent at the converged state; -1: not known
+  bool limit_point = false;       // the load parameter passed an extremum within this step
 };
 
-struct StepReport {
-  int step;        // 1-based count of converged steps
-  double t, dt;
-  int iterations;  // Newton iterations of the converged attempt
-  double residual_norm;
-  int cutbacks;    // failed attempts before this step converged
-  std::vector<double> history;  // residual norms of the converged attempt
+// How a run ended.
+enum class Outcome {
+  reached_end,   // t_end (or the method's own end) was reached
+  stopped,       // a stop rule of the caller ended the run (the step callback returned false)
+  limit_point,   // load stepping could not pass a limit point and the case accepts that as the end
+  max_steps,     // the step budget ran out
+  failed,        // a step failed below the smallest allowed step
 };
+const char* outcome_name(Outcome o);
 
 struct ContinuationResult {
-  bool completed;
-  double t_reached;
-  int steps;
-  int total_iterations;  // including failed attempts
+  Outcome outcome = Outcome::failed;
+  double t_reached = 0;
+  int steps = 0;
+  int total_iterations = 0;  // including failed attempts
   std::string message;
-  bool step_too_small = false;  // ended because a step failed even below dt_min (e.g. at a limit point)
+  // Completed runs: the end, a stop rule, or a limit point the case declared acceptable.
+  bool completed() const { return outcome == Outcome::reached_end || outcome == Outcome::stopped ||
+                                  outcome == Outcome::limit_point; }
 };
 
-// Marches t from t_start to t_end. After each converged step: sys.accept(q, t), then on_step(report, q);
-// on_step returning false stops early (completed = false). On Newton failure q is restored and the step is
-// retried with dt * cutback; below dt_min the run stops with a message. Never steps past t_end.
-ContinuationResult run_continuation(NonlinearSystem& sys, Eigen::VectorXd& q, const StepControl& sc,
-                                    const NewtonOptions& opt, LinearSolver& solver,
-                                    const std::function<bool(const StepReport&, const Eigen::VectorXd&)>& on_step);
+// Called after every converged step with its report and the converged unknowns; false stops the run.
+using StepCallback = std::function<bool(const StepReport&, const Eigen::VectorXd&)>;
+
+// The state a method needs to continue after a restart, as named arrays (written to checkpoints).
+using MethodState = std::map<std::string, std::vector<double>>;
+
+class ContinuationMethod {
+ public:
+  virtual ~ContinuationMethod() = default;
+  virtual std::string name() const = 0;
+  // Marches from (q, t) = (q, start time) until the end, the callback stops it, or it fails. After each
+  // converged step: sys.accept(q, t), then on_step. q holds the last converged state on return.
+  virtual ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
+                                 const StepCallback& on_step) = 0;
+  // Restart support: the state after the last converged step, and its restoration before run().
+  virtual MethodState save() const { return {}; }
+  virtual void restore(const MethodState& /*state*/) {}
+};
 
 }  // namespace fibrane::solve

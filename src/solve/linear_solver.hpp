@@ -20,6 +20,9 @@ class LinearSolver {
   virtual long factor_nonzeros() const = 0;
   // How the analyses went (how many, with which ordering method), for reports; may be empty.
   virtual std::string analysis_summary() const { return {}; }
+  // Number of negative eigenvalues of the last factorised matrix (Sylvester's law of inertia applied to
+  // the factorisation), or -1 where the factorisation does not tell.
+  virtual int negative_eigenvalues() const { return -1; }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
   // Used by newton_solve(); returns true if it analysed.

@@ -5,7 +5,14 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "common/format.hpp"
+
 namespace fibrane::solve {
+
+const Eigen::VectorXd& NonlinearSystem::load_derivative() const {
+  static const Eigen::VectorXd none;
+  return none;
+}
 
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
                           LinearSolver& solver) {
@@ -64,7 +71,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     }
     previous_norm = norm;
     if (norm > opt.divergence_factor * scale) {
-      rep.failure = "diverged at iteration " + std::to_string(it) + " (|r| = " + std::to_string(norm) + ")";
+      rep.failure = "diverged at iteration " + std::to_string(it) + " (|r| = " + format_number(norm) + ")";
       return rep;
     }
     // A two-state cycle: the residual repeats every second iteration to 1e-3 (a beam point whose closest
@@ -74,12 +81,12 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     if (h.size() >= 5 && std::abs(h[it] - h[it - 2]) <= 1e-3 * h[it] &&
         std::abs(h[it - 1] - h[it - 3]) <= 1e-3 * h[it - 1] && std::abs(h[it] - h[it - 1]) > 1e-2 * h[it]) {
       rep.failure = "cycling between two states at iteration " + std::to_string(it) + " (|r| = " +
-                    std::to_string(h[it - 1]) + ", " + std::to_string(norm) + ")";
+                    format_number(h[it - 1]) + ", " + format_number(norm) + ")";
       return rep;
     }
     if (it >= opt.max_iterations) {
       rep.failure = "no convergence in " + std::to_string(opt.max_iterations) + " iterations (|r| = " +
-                    std::to_string(norm) + ")";
+                    format_number(norm) + ")";
       return rep;
     }
     // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
@@ -108,6 +115,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       }
       factor_valid = true;
       ++rep.factorizations;
+      rep.negative_eigenvalues = solver.negative_eigenvalues();
     }
     const Eigen::VectorXd dq = solver.solve(-r);
     if (!dq.allFinite()) {

@@ -19,6 +19,10 @@ class NonlinearSystem {
   virtual void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) = 0;
   virtual const Eigen::VectorXd& residual() const = 0;             // reduced residual at the last evaluate
   virtual const Eigen::SparseMatrix<double>& tangent() const = 0;  // reduced tangent d residual / dq
+  // d residual / d t at fixed q, exact, from the last evaluate() with the tangent: the load vector that
+  // arc-length continuation borders the tangent with (prescribed values and loads both scale with t).
+  // Systems that do not provide it return an empty vector.
+  virtual const Eigen::VectorXd& load_derivative() const;
   virtual int pattern_version() const = 0;                         // solver re-analyses when it changes
   virtual bool symmetric() const { return true; }
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
@@ -59,6 +63,8 @@ struct NewtonReport {
   double residual_norm = 0;    // at the last evaluation
   std::vector<double> history; // ||r|| at every evaluation, the first before any update
   std::string failure;         // empty when converged
+  // Negative eigenvalues of the last factorised tangent (LinearSolver::negative_eigenvalues), -1 unknown.
+  int negative_eigenvalues = -1;
 };
 
 // Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()).

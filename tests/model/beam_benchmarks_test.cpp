@@ -14,7 +14,7 @@
 #include "case_runner.hpp"
 #include "common/error.hpp"
 #include "model/model.hpp"
-#include "solve/continuation.hpp"
+#include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace fibrane::testing {
@@ -34,7 +34,7 @@ std::size_t index_of_time(const History& h, double t) {
 // docs/verification.md), so the test keeps the tolerance and has ample margin.
 TEST(BeamBenchmarks, RollUpClosesIntoCircle) {
   const auto r = run_yaml("beam-rollup", example_text("beam-rollup.yaml"));
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   const double L = 10.0, tol = 0.005 * L;
   const auto& h = r.history;
   const std::size_t half = index_of_time(h, 0.5);
@@ -56,7 +56,7 @@ TEST(BeamBenchmarks, RollUpClosesIntoCircle) {
 // error is below 0.05 per component (mesh table in docs/verification.md).
 TEST(BeamBenchmarks, BatheBolourchiBendTip) {
   const auto r = run_yaml("bathe-bolourchi", example_text("bathe-bolourchi.yaml"));
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   EXPECT_NEAR(r.history.at("tip_x").back(), 47.151, 0.1);
   EXPECT_NEAR(r.history.at("tip_y").back(), 15.685, 0.1);
   EXPECT_NEAR(r.history.at("tip_z").back(), 53.469, 0.1);
@@ -66,7 +66,7 @@ TEST(BeamBenchmarks, BatheBolourchiBendTip) {
 // are round-off and the Newton tolerance (1e-9 relative to the torque): 1e-9 relative on the twist and
 // 1e-10 L on the axis. Checked at every load level up to one full turn, and up to ten full turns.
 void check_torsion(const CaseRun& r, double turns_at_end) {
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   const double L = 10.0;
   const auto& h = r.history;
   ASSERT_GE(h.at("t").size(), 5u);
@@ -134,7 +134,7 @@ TEST(BeamBenchmarks, RigidRotationOfReferenceRotatesTheDeformation) {
   const Eigen::Matrix3d Q = Eigen::AngleAxisd(2.1, Eigen::Vector3d(1, -2, 3).normalized()).toRotationMatrix();
   const auto a = run_yaml("beam-objectivity-a", curved_case(Eigen::Matrix3d::Identity()));
   const auto b = run_yaml("beam-objectivity-b", curved_case(Q));
-  ASSERT_TRUE(a.summary.result.completed && b.summary.result.completed);
+  ASSERT_TRUE(a.summary.result.completed() && b.summary.result.completed());
   const double size = 5.0;
   for (const std::string at : {"tip_", "mid_"}) {
     auto pos = [&](const CaseRun& r) {
@@ -159,7 +159,7 @@ TEST(BeamBenchmarks, RigidRotationOfReferenceRotatesTheDeformation) {
 // stalls (residual oscillating around 1e-1 at every load step, endless cut-backs).
 TEST(BeamBenchmarks, SpatialPointMomentConvergesWithDefaultSolver) {
   const auto r = run_yaml("beam-moment-auto", curved_case(Eigen::Matrix3d::Identity(), "auto"));
-  EXPECT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  EXPECT_TRUE(r.summary.result.completed()) << r.summary.result.message;
 }
 
 // Marches an example to t_stop (frame references updated after every converged step), then applies
@@ -176,8 +176,7 @@ Marched march(const std::string& example, double t_stop, double t_next, int iter
   auto& m = *r.c.model;
   auto solver = solve::make_linear_solver("umfpack", false);
   r.q = m.initial_unknowns();
-  solve::run_continuation(m, r.q, r.c.run.steps, r.c.run.newton, *solver,
-                          [&](const solve::StepReport& s, const Eigen::VectorXd&) { return s.t < t_stop - 1e-12; });
+  solve::LoadStepping(r.c.run.steps, r.c.run.newton).run(m, r.q, *solver, [&](const solve::StepReport& s, const Eigen::VectorXd&) { return s.t < t_stop - 1e-12; });
   for (int k = 0; k < iterations; ++k) {
     m.evaluate(r.q, t_next, true);
     solver->analyze(m.tangent());

@@ -15,7 +15,7 @@ TEST(BendingExample, CoarseRunKeepsTheFiberOnAndBendsBothIntoAnArch) {
       {"elements: [100, 100]", "elements: [10, 10]"},
       {"elements: 400", "elements: 40"},
       {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   const auto& t = r.history.at("t");
   ASSERT_NEAR(t.back(), 1.0, 1e-12);
   // Adhered throughout: the interaction energy stays within 2 % of its initial value at every step (a
@@ -47,7 +47,7 @@ TEST(BendingExample, StallAtTheFibersEndIsExplainedInTheStopMessage) {
       {"elements: [100, 100]", "elements: [8, 8]"},
       {"elements: 400", "elements: 32"},
       {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
-  ASSERT_FALSE(r.summary.result.completed);
+  ASSERT_FALSE(r.summary.result.completed());
   const std::string& message = r.summary.result.message;
   EXPECT_NE(message.find("dt below dt_min"), std::string::npos) << message;
   EXPECT_NE(message.find("jumped across the shell"), std::string::npos) << message;

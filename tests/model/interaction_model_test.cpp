@@ -75,7 +75,7 @@ TEST(InteractionModel, FreeBeamSettlesAtTheEquilibriumDistance) {
     yaml.replace(yaml.find("constraints:"), 12,
                  "monitors:\n  - {name: z_mid, type: position, body: fiber, at: {xi: 0.5}, component: z}\nconstraints:");
     const auto r = run_yaml(std::string("settle-") + f, yaml);
-    ASSERT_TRUE(r.summary.result.completed) << f << ": " << r.summary.result.message;
+    ASSERT_TRUE(r.summary.result.completed()) << f << ": " << r.summary.result.message;
     EXPECT_NEAR(r.history.at("z_mid").back(), d_eq, 1e-8 * d_eq) << f;
   }
 }

@@ -48,7 +48,7 @@ TEST(PeelingExample, CoarseRunRisesFallsAndPullsOff) {
   // beam partly adhering beyond it, the step is cut back below dt_min) with the beam still adhering.
   const double e0 = std::abs(energy.front());
   const bool collapsed = std::abs(energy.back()) < 1e-3 * e0;
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   ASSERT_LT(t.back(), 0.5) << "no pull-off before t = 0.5: " << r.summary.result.message;
   // the last equilibrium state before the jump
   const std::size_t before = collapsed ? n - 2 : n - 1;

@@ -34,7 +34,7 @@ TEST(ShellBenchmarks, RollUpOfPlateStrip) {
   const auto& t = r.history.at("t");
   const auto& x = r.history.at("tip_x");
   const auto& z = r.history.at("tip_z");
-  ASSERT_TRUE(r.summary.result.completed);
+  ASSERT_TRUE(r.summary.result.completed());
   std::size_t half = 0;
   for (std::size_t i = 0; i < t.size(); ++i)
     if (std::abs(t[i] - 0.5) < 1e-9) half = i;

@@ -66,7 +66,7 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
       {"elements: [100, 100]", "elements: [8, 8]"},
       {"elements: 400", "elements: 32"},
       {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
-  ASSERT_TRUE(r.summary.result.completed) << r.summary.result.message;
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   EXPECT_NEAR(r.history.at("t").back(), 1.0, 1e-12);
   // The shell's two symmetry constraints are its mirror planes x = 0 and y = 0 (the windows' images; the
   // offset at the switch would hide a missing image, so they are checked here).

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
-#include "solve/continuation.hpp"
+#include "solve/load_stepping.hpp"
 #include "spring_network.hpp"
 
 namespace fibrane::solve {
@@ -90,8 +90,8 @@ TEST(Continuation, DisplacementControlThroughTheSnapMatchesTheAnalyticalPath) {
     max_reaction = std::max(max_reaction, r[7]);
     return true;
   };
-  const ContinuationResult res = run_continuation(truss, q, sc, opt, solver, check);
-  ASSERT_TRUE(res.completed) << res.message;
+  const ContinuationResult res = LoadStepping(sc, opt).run(truss, q, solver, check);
+  ASSERT_TRUE(res.completed()) << res.message;
   EXPECT_DOUBLE_EQ(res.t_reached, 1.0);
   EXPECT_EQ(truss.accepted(), res.steps);
   EXPECT_LT(min_reaction, -0.01);  // the transmitted force changes sign: the path crossed the limit point
@@ -127,7 +127,7 @@ TEST(Continuation, CutsBackWhenAStepIsTooLargeAndRecovers) {
   opt.max_iterations = 4;  // a full step from rest needs more
   int cutback_steps = 0, cutbacks = 0;
   double t_last = 0;
-  const ContinuationResult res = run_continuation(bar, q, sc, opt, *solver, [&](const StepReport& rep, const Eigen::VectorXd& qs) {
+  const ContinuationResult res = LoadStepping(sc, opt).run(bar, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd& qs) {
     cutback_steps += rep.cutbacks > 0;
     cutbacks += rep.cutbacks;
     EXPECT_GT(rep.t, t_last);
@@ -135,7 +135,7 @@ TEST(Continuation, CutsBackWhenAStepIsTooLargeAndRecovers) {
     EXPECT_NEAR(qs[0], std::atanh(load * rep.t), 1e-7);  // converged to 1e-9 * F, tangent >= 0.06
     return true;
   });
-  ASSERT_TRUE(res.completed) << res.message;
+  ASSERT_TRUE(res.completed()) << res.message;
   EXPECT_GE(cutback_steps, 1);
   // Every failed attempt tells the system (history-dependent state, e.g. projection branches, goes back).
   EXPECT_EQ(bar.rejected(), cutbacks);
@@ -150,8 +150,8 @@ TEST(Continuation, StopsCleanlyBelowDtMinBeyondTheLimitLoad) {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
   StepControl sc;
   sc.dt_min = 1e-4;
-  const ContinuationResult res = run_continuation(bar, q, sc, NewtonOptions{}, *solver, nullptr);
-  EXPECT_FALSE(res.completed);
+  const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(bar, q, *solver, nullptr);
+  EXPECT_FALSE(res.completed());
   EXPECT_NE(res.message.find("dt_min"), std::string::npos) << res.message;
   EXPECT_LT(res.t_reached, 0.8);  // no equilibrium beyond: a hard bound
   EXPECT_GT(res.t_reached, 0.75); // steps of >= 1e-4 approach the limit closely (loose on purpose)
@@ -173,13 +173,12 @@ TEST(Continuation, StepSizeGrowsToDtMaxAndLandsExactlyOnTEnd) {
   sc.dt_max = 0.3;
   sc.growth = 2.0;
   std::vector<double> dts, ts;
-  const ContinuationResult res = run_continuation(spring, q, sc, NewtonOptions{}, *solver,
-                                                  [&](const StepReport& rep, const Eigen::VectorXd&) {
+  const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(spring, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
                                                     dts.push_back(rep.dt);
                                                     ts.push_back(rep.t);
                                                     return true;
                                                   });
-  ASSERT_TRUE(res.completed);
+  ASSERT_TRUE(res.completed());
   // 0.01, 0.02, 0.04, 0.08, 0.16 (t = 0.31), then 0.3, 0.3 (t = 0.91), then the remainder 0.09.
   const std::vector<double> expected = {0.01, 0.02, 0.04, 0.08, 0.16, 0.3, 0.3, 0.09};
   ASSERT_EQ(dts.size(), expected.size());
@@ -192,9 +191,9 @@ TEST(Continuation, CallbackCanStopEarly) {
   SpringNetwork bar = make_bar(0.5);
   auto solver = make_linear_solver("auto", true);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
-  const ContinuationResult res = run_continuation(bar, q, StepControl{}, NewtonOptions{}, *solver,
-                                                  [](const StepReport& rep, const Eigen::VectorXd&) { return rep.step < 3; });
-  EXPECT_FALSE(res.completed);
+  const ContinuationResult res = LoadStepping(StepControl{}, NewtonOptions{}).run(
+      bar, q, *solver, [](const StepReport& rep, const Eigen::VectorXd&) { return rep.step < 3; });
+  EXPECT_EQ(res.outcome, Outcome::stopped);
   EXPECT_EQ(res.steps, 3);
   EXPECT_NE(res.message.find("callback"), std::string::npos);
 }
@@ -208,8 +207,8 @@ TEST(Continuation, SecantPredictorSavesIterations) {
     StepControl sc;
     sc.dt_initial = sc.dt_max = 0.05;
     sc.extrapolate = extrapolate;
-    const ContinuationResult res = run_continuation(truss, q, sc, NewtonOptions{}, *solver, nullptr);
-    ASSERT_TRUE(res.completed);
+    const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(truss, q, *solver, nullptr);
+    ASSERT_TRUE(res.completed());
     iterations[extrapolate] = res.total_iterations;
   }
   EXPECT_LT(iterations[1], iterations[0]);
@@ -221,10 +220,10 @@ TEST(Continuation, InvalidStepControlIsAnInputError) {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
   StepControl zero_step;
   zero_step.dt_initial = 0.0;
-  EXPECT_THROW(run_continuation(bar, q, zero_step, NewtonOptions{}, *solver, nullptr), InputError);
+  EXPECT_THROW(LoadStepping(zero_step, NewtonOptions{}).run(bar, q, *solver, nullptr), InputError);
   StepControl bad_cutback;
   bad_cutback.cutback = 1.0;  // would retry the same failing step forever
-  EXPECT_THROW(run_continuation(bar, q, bad_cutback, NewtonOptions{}, *solver, nullptr), InputError);
+  EXPECT_THROW(LoadStepping(bad_cutback, NewtonOptions{}).run(bar, q, *solver, nullptr), InputError);
 }
 
 }  // namespace

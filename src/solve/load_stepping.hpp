@@ -1,0 +1,45 @@
+#pragma once
+// Load stepping: the load parameter t is prescribed step by step and each step is solved by Newton
+// (paper Sec. 2.3), with automatic cut-back of failed steps and growth after easy ones. It cannot pass a
+// limit point of t (use arc-length continuation for that); a case may declare such a stop its end.
+#include "solve/continuation.hpp"
+
+namespace fibrane::solve {
+
+struct StepControl {
+  double t_start = 0.0;
+  double t_end = 1.0, dt_initial = 0.1, dt_min = 1e-8, dt_max = 0.1;
+  int easy_iterations = 4;   // a step converging in at most this many iterations lets dt grow
+  double growth = 1.5, cutback = 0.5;
+  int max_steps = 100000;
+  bool extrapolate = true;   // secant predictor from the last two converged states
+  // A failure below dt_min after at least one converged step ends the run as Outcome::limit_point
+  // instead of Outcome::failed (displacement-driven pull-off: the path turns back in t there).
+  bool stop_at_limit_point = false;
+};
+
+// Throws InputError unless dt_initial, dt_min, dt_max > 0, 0 < cutback < 1, growth >= 1, t_end >= t_start.
+void check_step_control(const StepControl& sc);
+
+class LoadStepping final : public ContinuationMethod {
+ public:
+  LoadStepping(StepControl control, NewtonOptions newton);
+  std::string name() const override { return "load_stepping"; }
+  // On Newton failure q is restored and the step retried with dt * cutback; below dt_min the run stops.
+  // Never steps past t_end.
+  ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
+                         const StepCallback& on_step) override;
+  MethodState save() const override;
+  void restore(const MethodState& state) override;
+
+ private:
+  StepControl control_;
+  NewtonOptions newton_;
+  // Path state carried between steps (and across a restart).
+  double t_ = 0, t_prev_ = 0, dt_ = 0;
+  int steps_ = 0;
+  Eigen::VectorXd q_prev_;
+  bool have_prev_ = false, restored_ = false;
+};
+
+}  // namespace fibrane::solve
