@@ -3,14 +3,15 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "model/run.hpp"
+#include "case/case_reader.hpp"
+#include "run/run.hpp"
 
 namespace fibrane::app {
 
 void register_run_command(CLI::App& app) {
   struct Options {
     std::string case_file;
-    model::RunOptions run;
+    run::RunOptions run;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
@@ -21,8 +22,8 @@ void register_run_command(CLI::App& app) {
   cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
   cmd->callback([opt]() {
     // Reading the whole case first: bad input stops here, before any output file exists.
-    model::Case c = model::read_case(opt->case_file);
-    const auto s = model::run_case(c, opt->run);
+    casefile::Case c = casefile::read_case(opt->case_file);
+    const auto s = run::run_case(c, opt->run);
     std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
               << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
               << s.wall_seconds << " s; results in " << s.directory << "\n";

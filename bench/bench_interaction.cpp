@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "laws/lennard_jones.hpp"
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
 #include "interaction/soft_distance.hpp"

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "case_edit.hpp"
-#include "model/case_reader.hpp"
+#include "case/case_reader.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace {
@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     std::cerr << e.what() << "\n";
     return 2;
   }
-  auto c = fibrane::model::read_case(path);
+  auto c = fibrane::casefile::read_case(path);
   auto& m = *c.model;
   m.evaluate(m.initial_unknowns(), 0.0, true);
   const Eigen::SparseMatrix<double>& k = m.tangent();

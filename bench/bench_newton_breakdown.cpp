@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "case_edit.hpp"
-#include "model/case_reader.hpp"
+#include "case/case_reader.hpp"
 #include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     std::cerr << e.what() << "\n";
     return 2;
   }
-  auto c = fibrane::model::read_case(path);
+  auto c = fibrane::casefile::read_case(path);
   auto& m = *c.model;
   if (t_end > 0) c.run.steps.t_end = t_end;
   if (reuse >= 0) c.run.newton.reuse_below = reuse;

@@ -1,5 +1,5 @@
 // Cost of assembling the residual and tangent of a degree-4 Kirchhoff-Love shell through the real model
-// (case file -> model::read_case -> Model::evaluate(q, t, true)), INCLUDING the scatter into the reduced
+// (case file -> casefile::read_case -> Model::evaluate(q, t, true)), INCLUDING the scatter into the reduced
 // sparse matrix, per quadrature point, on 1 and 2 OpenMP threads; and, for the ratio, the sparse
 // factorisation of the same matrix. A serial breakdown of one assembly pass (basis evaluation, point kernel,
 // the rest) shows what dominates.
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "model/case_reader.hpp"
+#include "case/case_reader.hpp"
 #include "solve/linear_solver.hpp"
 #include "spline/quadrature.hpp"
 
@@ -130,7 +130,7 @@ struct Breakdown {
 int main(int argc, char** argv) {
   const int n = argc > 1 ? std::atoi(argv[1]) : 32;
   const int reps = argc > 2 ? std::atoi(argv[2]) : 5;
-  auto c = fibrane::model::read_case(write_case(n, argv[0]));
+  auto c = fibrane::casefile::read_case(write_case(n, argv[0]));
   auto& m = *c.model;
   const auto& shell = m.shells.at(0);
   const long qps = static_cast<long>(shell.elements.size()) * shell.gauss(0) * shell.gauss(1);

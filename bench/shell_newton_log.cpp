@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <exception>
 
-#include "model/case_reader.hpp"
+#include "case/case_reader.hpp"
 #include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   }
   const int max_print = argc > 2 ? std::atoi(argv[2]) : 1000000;
   try {
-    auto c = fibrane::model::read_case(argv[1]);
+    auto c = fibrane::casefile::read_case(argv[1]);
     auto& m = *c.model;
     auto solver = fibrane::solve::make_linear_solver(c.run.linear_solver, m.symmetric());
     Eigen::VectorXd q = m.initial_unknowns();

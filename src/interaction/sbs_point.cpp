@@ -153,7 +153,7 @@ void check_sizes(const PairPoint& p, bool need_third) {
 
 }  // namespace
 
-PairResult add_sbs_point(const laws::LennardJonesDiskPlate& law, Formulation f, FfTangent ff_tangent,
+PairResult add_sbs_point(const laws::InteractionLaw& law, Formulation f, FfTangent ff_tangent,
                          const PairPoint& p, double* energy, Eigen::VectorXd* residual,
                          Eigen::MatrixXd* tangent) {
   const bool exact_ff = f == Formulation::FF && ff_tangent == FfTangent::exact && tangent != nullptr;

@@ -5,7 +5,7 @@
 // orthogonality condition (63) (ShellProximity::project).
 #include <Eigen/Dense>
 
-#include "laws/lennard_jones.hpp"
+#include "laws/interaction_law.hpp"
 #include "shell/kl_shell.hpp"
 
 namespace fibrane::interaction {
@@ -45,7 +45,7 @@ struct PairResult {
 //        (needs shell_basis3: theta-hat's second variation involves the surface's third derivatives).
 // Throws std::invalid_argument on inconsistent sizes, std::domain_error if d <= 0 or the law rejects
 // (d, c) (overlap).
-PairResult add_sbs_point(const laws::LennardJonesDiskPlate& law, Formulation f, FfTangent ff_tangent,
+PairResult add_sbs_point(const laws::InteractionLaw& law, Formulation f, FfTangent ff_tangent,
                          const PairPoint& p, double* energy, Eigen::VectorXd* residual,
                          Eigen::MatrixXd* tangent);
 

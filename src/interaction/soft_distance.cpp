@@ -296,7 +296,7 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
   return d;
 }
 
-double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
+double add_soft_rf2_point(const laws::InteractionLaw& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
                           Eigen::MatrixXd* tangent, Eigen::Vector3d* force, std::vector<int>* support) {

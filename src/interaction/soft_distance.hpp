@@ -26,7 +26,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
-#include "laws/lennard_jones.hpp"
+#include "laws/interaction_law.hpp"
 #include "spline/surface.hpp"
 
 namespace fibrane::interaction {
@@ -97,7 +97,7 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
 // With `support` given, *residual and *tangent are instead overwritten with their entries on the support:
 // the local DOFs listed in *support (the beam's and those of the window control points under a sample of
 // non-negligible weight; all others are zero), which is what an assembler needs.
-double add_soft_rf2_point(const laws::LennardJonesDiskPlate& law, double beta, const Eigen::RowVectorXd& beam_basis,
+double add_soft_rf2_point(const laws::InteractionLaw& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
                           Eigen::MatrixXd* tangent, Eigen::Vector3d* force = nullptr,

@@ -4,7 +4,6 @@
 #include <cmath>
 
 #include "common/error.hpp"
-#include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
@@ -15,7 +14,7 @@ beam::BasisDerivs basis_matrix(const spline::CurveBasis& b) { return b.R.topRows
 }  // namespace
 
 BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eigen::Vector3d d)
-    : name(std::move(n)), curve(std::move(c)), section(s), director(d) {
+    : curve(std::move(c)), section(s), director(d), name_(std::move(n)) {
   const auto& kv = curve.knots();
   const int p = curve.degree();
   // The bending energy (Eq. 46) needs a C1 axis: at a C0 knot the displacement field may kink at no cost,
@@ -24,7 +23,7 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
   const auto unique = kv.unique_knots();
   for (std::size_t k = 1; k + 1 < unique.size(); ++k)
     if (kv.multiplicity(unique[k]) >= p)
-      throw InputError("beam '" + name + "': the axis is only C0 at xi = " + std::to_string(unique[k]) +
+      throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + std::to_string(unique[k]) +
                        " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
                        std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of at most 90 degrees "
                        "or a NURBS axis without C0 knots (one rational quadratic piece spans arcs below 180)");
@@ -134,8 +133,10 @@ beam::BeamDofs BeamBody::current(const std::vector<int>& cps, const Eigen::Vecto
   return q;
 }
 
-double BeamBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
-                          int first_element, bool with_tangent) const {
+double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*status*/) {
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
+  const bool with_tangent = sink.with_tangent();
   const auto g = spline::gauss_legendre(gauss());
   const int n_elements = static_cast<int>(elements.size());
   double energy = 0.0;
@@ -157,13 +158,15 @@ double BeamBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, s
         beam::add_beam_point(section, basis_matrix(b), q, states[e][i], share * g.weights[i] * j, &energy, &r,
                              with_tangent ? &k : nullptr);
       }
-      a.add(first_element + e, r, with_tangent ? &k : nullptr);
+      sink.add(e, r, with_tangent ? &k : nullptr);
     }
   }
   return energy;
 }
 
-void BeamBody::accept(const Eigen::VectorXd& u, const solve::DofMap& dofs) {
+void BeamBody::accept(const State& state) {
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
   const auto g = spline::gauss_legendre(gauss());
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const auto& el = elements[e];
@@ -173,6 +176,22 @@ void BeamBody::accept(const Eigen::VectorXd& u, const solve::DofMap& dofs) {
       beam::update_point_state(states[e][i], basis_matrix(curve.basis(xi, 2)), q);
     }
   }
+}
+
+Eigen::VectorXd BeamBody::line_load(const Eigen::Vector3d& f) const {
+  Eigen::VectorXd nodal = Eigen::VectorXd::Zero(3 * num_control_points());
+  const auto g = spline::gauss_legendre(gauss());
+  for (const auto& el : elements) {
+    const double j = 0.5 * (el.xi1 - el.xi0);
+    for (std::size_t q = 0; q < g.points.size(); ++q) {
+      const double xi = el.xi0 + (g.points[q] + 1) * j;
+      const auto basis = curve.basis(xi, 1);
+      const double jb = curve.derivative(xi, 1).norm();
+      for (int a = 0; a < basis.R.cols(); ++a)
+        nodal.segment<3>(3 * (basis.first + a)) += g.weights[q] * j * jb * basis.R(0, a) * f;
+    }
+  }
+  return nodal;
 }
 
 }  // namespace fibrane::model

@@ -1,12 +1,14 @@
 #pragma once
 // A Bernoulli-Euler beam body: a refined NURBS axis with a twist field on the same basis (4 DOFs per
 // control point: x, y, z, phi), the section, and the per-quadrature-point frame states of the
-// smallest-rotation map that are updated after every converged step (Sec. 3.2).
+// smallest-rotation map that are updated after every converged step (Sec. 3.2). It is the contribution
+// of the beam's strain energy, and it integrates the loads that act on it.
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
 
 #include "beam/beam.hpp"
+#include "model/contribution.hpp"
 #include "spline/curve.hpp"
 #include "solve/forward.hpp"
 
@@ -18,8 +20,8 @@ struct BeamElement {
   std::vector<int> control_points;
 };
 
-struct BeamBody {
-  std::string name;
+class BeamBody final : public Contribution {
+ public:
   spline::NurbsCurve curve;  // reference axis after refinement
   beam::BeamSection section;
   Eigen::Vector3d director = Eigen::Vector3d::Zero();  // a2 hint; zero: rotation-minimising frame
@@ -38,12 +40,18 @@ struct BeamBody {
   int gauss() const { return gauss_points > 0 ? gauss_points : curve.degree() + 1; }
   // Builds the reference triads at every quadrature point (call after gauss_points is final).
   void initialise_states();
-  std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const;
   beam::BeamDofs current(const std::vector<int>& cps, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
-  double assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
-                  int first_element, bool with_tangent) const;
-  // Incremental update of the frame references after a converged step.
-  void accept(const Eigen::VectorXd& u, const solve::DofMap& dofs);
+
+  // Contribution: the strain energy (Eq. 46) and its variations (App. B), element by element; accept()
+  // updates the frame references incrementally after a converged step.
+  std::string name() const override { return name_; }
+  std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
+  double evaluate(const State& s, ElementSink& sink, Status& status) override;
+  void accept(const State& s) override;
+
+  // Consistent nodal forces (x, y, z per control point, control-point major) of a force per unit
+  // reference length along the whole beam.
+  Eigen::VectorXd line_load(const Eigen::Vector3d& force) const;
   // Frame state of an arbitrary parameter (for point moments), consistent with initialise_states().
   beam::BeamPointState state_at(double xi) const;
   int element_of(double xi) const;
@@ -51,6 +59,7 @@ struct BeamBody {
   Eigen::Vector3d reference_director(double xi) const;
 
  private:
+  std::string name_;
   // Rotation-minimising frame sampled densely along the axis (double reflection), for reference_director.
   std::vector<double> rmf_xi_;
   std::vector<Eigen::Vector3d> rmf_a2_;

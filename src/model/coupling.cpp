@@ -38,12 +38,6 @@ constexpr double kBranchMargin = 1e-3;
 // the examples, with the beam point; in a diverging attempt both move far).
 constexpr double kJump = 0.1, kJumpRatio = 10;
 
-// A soft-minimum window (interaction::soft_window_half_width) is re-centred after a step in which its
-// point's closest point moved by more than kRecentre of its half-width; when the soft element changes
-// anyway (a switch or such a re-centre), windows whose point moved by more than kRecentreAlong are
-// re-centred with it: each change of the element is a new sparsity pattern and symbolic factorisation.
-constexpr double kRecentre = 0.25, kRecentreAlong = 0.1;
-
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
   for (int cp = 0; cp < s.num_control_points(); ++cp)
@@ -53,9 +47,9 @@ std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::Vec
 
 }  // namespace
 
-Coupling::Coupling(std::string name, int beam, int shell, laws::LennardJonesDiskPlate law, interaction::Formulation f,
+Coupling::Coupling(std::string name, std::shared_ptr<const laws::InteractionLaw> law, interaction::Formulation f,
                    interaction::FfTangent ff_tangent, const BeamBody& b, const ShellBody& s)
-    : name_(std::move(name)), beam_(beam), shell_(shell), law_(law), formulation_(f), ff_tangent_(ff_tangent),
+    : name_(std::move(name)), beam_(b), shell_(s), law_(std::move(law)), formulation_(f), ff_tangent_(ff_tangent),
       proximity_(s.surface) {
   const auto g = spline::gauss_legendre(b.gauss());
   double s_start = 0;
@@ -87,45 +81,23 @@ void Coupling::enable_soft_minimum(double width, double below) {
   soft_below_ = below;
 }
 
-double Coupling::beta() const { return 1.0 / (soft_width_ * law_.equilibrium_distance(1.0)); }
+double Coupling::beta() const { return 1.0 / (soft_width_ * law_->equilibrium_distance(1.0)); }
 
-Eigen::Vector3d Coupling::beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u,
-                                     const solve::DofMap& dofs) const {
+Eigen::Vector3d Coupling::beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const {
   const auto& qp = quad_[i];
-  return b.current(b.elements[qp.element].control_points, u, dofs).topRows<3>() *
-         b.curve.basis(qp.xi, 0).R.row(0).transpose();
+  return beam_.current(beam_.elements[qp.element].control_points, u, dofs).topRows<3>() *
+         beam_.curve.basis(qp.xi, 0).R.row(0).transpose();
 }
 
-void Coupling::update_soft_windows(const ShellBody& s) {
-  if (soft_requests_.empty()) return;
-  const double d_eq = law_.equilibrium_distance(1.0);
-  for (const auto& [i, centre] : soft_requests_) {
-    interaction::SoftWindow w =
-        interaction::make_soft_window(s.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
-                                      interaction::soft_window_cell(soft_width_, d_eq), s.mirrors);
-    if (soft_of_[i] < 0) {
-      soft_of_[i] = static_cast<int>(soft_.size());
-      SoftPoint sp;
-      sp.point = i;
-      sp.centre = centre;
-      sp.window = std::move(w);
-      soft_.push_back(std::move(sp));
-    } else {
-      soft_[soft_of_[i]].centre = centre;
-      soft_[soft_of_[i]].window = std::move(w);
-    }
-  }
-  soft_requests_.clear();
-  soft_changed_ = true;
-}
-
-bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
-  proximity_.update(current_points(s, u, dofs));
-  update_soft_windows(s);
+bool Coupling::update(const State& state) {
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
+  proximity_.update(current_points(shell_, u, dofs));
+  update_soft_windows();
   const int n = static_cast<int>(quad_.size());
 #pragma omp parallel for schedule(dynamic, 16)
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = beam_point(b, i, u, dofs);
+    const Eigen::Vector3d r = beam_point(i, u, dofs);
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
     projection_[i] = proximity_.project(r, last_[i], kBranchMargin);
@@ -139,26 +111,18 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
   }
-  // A point that has just switched to the soft minimum: its offset makes phi(D + offset) = phi(d) here,
-  // with d from the branch it was on (a local projection from its window's centre).
-  for (SoftPoint& sp : soft_) {
-    if (sp.calibrated) continue;
-    const Eigen::Vector3d r = beam_point(b, sp.point, u, dofs);
-    const auto branch = proximity_.project(r, sp.centre, 1.0);
-    const auto& qp = quad_[sp.point];
-    const Eigen::Matrix3Xd beam_x = b.current(b.elements[qp.element].control_points, u, dofs).topRows<3>();
-    const double D = interaction::soft_distance(beta(), b.curve.basis(qp.xi, 0).R.row(0), beam_x, sp.window,
-                                                s.current(sp.window.control_points, u, dofs), false)
-                         .distance;
-    sp.offset = branch.where == interaction::ShellProximity::Projection::Where::interior ? branch.distance - D : 0.0;
-    sp.calibrated = true;
-  }
-  if (soft_changed_) build_soft_element(b);
+  calibrate_soft_points(u, dofs);
+  if (soft_changed_) build_soft_element();
+  return collect_pairs();
+}
+
+bool Coupling::collect_pairs() {
   // The sparsity pattern holds, for each beam element, the shell elements around the ones its points
   // project onto (a 3 x 3 block), so that points sliding across a shell element edge (a beam lying on an
   // element boundary does that at every iteration) do not force a new pattern and a new symbolic
   // factorisation. The pattern is rebuilt only when a point reaches a shell element outside it.
-  const int n_u = s.surface.knots(0).num_elements(), n_v = s.surface.knots(1).num_elements();
+  const int n = static_cast<int>(quad_.size());
+  const int n_u = shell_.surface.knots(0).num_elements(), n_v = shell_.surface.knots(1).num_elements();
   bool changed = soft_changed_;
   soft_changed_ = false;
   auto paired = [&](int i) {  // evaluated with its closest point (not soft)
@@ -193,49 +157,8 @@ bool Coupling::project(const BeamBody& b, const ShellBody& s, const Eigen::Vecto
   return changed;
 }
 
-void Coupling::build_soft_element(const BeamBody& b) {
-  soft_beam_cps_.clear();
-  soft_shell_cps_.clear();
-  for (const SoftPoint& sp : soft_) {
-    const auto& beam_cps = b.elements[quad_[sp.point].element].control_points;
-    soft_beam_cps_.insert(soft_beam_cps_.end(), beam_cps.begin(), beam_cps.end());
-    soft_shell_cps_.insert(soft_shell_cps_.end(), sp.window.control_points.begin(), sp.window.control_points.end());
-  }
-  for (auto* cps : {&soft_beam_cps_, &soft_shell_cps_}) {
-    std::sort(cps->begin(), cps->end());
-    cps->erase(std::unique(cps->begin(), cps->end()), cps->end());
-  }
-  auto index = [](const std::vector<int>& sorted, int cp) {
-    return static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), cp) - sorted.begin());
-  };
-  const int beam_size = 4 * static_cast<int>(soft_beam_cps_.size());
-  for (SoftPoint& sp : soft_) {
-    sp.to_union.clear();
-    for (int cp : b.elements[quad_[sp.point].element].control_points)
-      for (int c = 0; c < 4; ++c) sp.to_union.push_back(4 * index(soft_beam_cps_, cp) + c);
-    for (int cp : sp.window.control_points)
-      for (int c = 0; c < 3; ++c) sp.to_union.push_back(beam_size + 3 * index(soft_shell_cps_, cp) + c);
-  }
-}
-
-void Coupling::accept() {
-  if (soft_width_ > 0) {
-    std::vector<std::pair<int, Eigen::Vector2d>> along;
-    for (std::size_t i = 0; i < quad_.size(); ++i) {
-      const auto& p = projection_[i];
-      if (p.where != interaction::ShellProximity::Projection::Where::interior) continue;
-      const Eigen::Vector2d theta(p.u, p.v);
-      if (soft_of_[i] < 0) {
-        if (p.relative_curvature < soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
-      } else {
-        const SoftPoint& sp = soft_[soft_of_[i]];
-        const double moved = ((theta - sp.centre).array().abs() / sp.window.half_extent.array()).maxCoeff();
-        if (moved > kRecentre) soft_requests_.emplace_back(static_cast<int>(i), theta);
-        else if (moved > kRecentreAlong) along.emplace_back(static_cast<int>(i), theta);
-      }
-    }
-    if (!soft_requests_.empty()) soft_requests_.insert(soft_requests_.end(), along.begin(), along.end());
-  }
+void Coupling::accept(const State& /*state*/) {
+  request_soft_switches();
   warm_ = last_;
   std::fill(jump_.begin(), jump_.end(), 0.0);
   failed_jumps_.clear();
@@ -273,41 +196,52 @@ std::string Coupling::failure_hint() const {
                         "soft-minimum distance (docs/interaction.md, section 7)");
 }
 
-std::vector<std::vector<int>> Coupling::pair_dofs(const BeamBody& b, const ShellBody& s,
-                                                  const solve::DofMap& dofs) const {
+std::vector<std::vector<int>> Coupling::element_dofs(const solve::DofMap& dofs) const {
   std::vector<std::vector<int>> out;
   out.reserve(pairs_.size());
+  auto append = [&](std::vector<int>& d, const std::vector<int>& beam_cps, const std::vector<int>& shell_cps) {
+    for (int cp : beam_cps)
+      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(beam_.block, cp, c));
+    for (int cp : shell_cps)
+      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(shell_.block, cp, c));
+  };
   for (const auto& [eb, es] : pairs_) {
     std::vector<int> d;
-    for (int cp : b.elements[eb].control_points)
-      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
-    for (int cp : s.element_control_points[es])
-      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
+    append(d, beam_.elements[eb].control_points, shell_.element_control_points[es]);
     out.push_back(std::move(d));
   }
   if (!soft_.empty()) {
     std::vector<int> d;
-    for (int cp : soft_beam_cps_)
-      for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(b.block, cp, c));
-    for (int cp : soft_shell_cps_)
-      for (int c = 0; c < 3; ++c) d.push_back(dofs.dof(s.block, cp, c));
+    append(d, soft_beam_cps_, soft_shell_cps_);
     out.push_back(std::move(d));
   }
   return out;
 }
 
-double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs,
-                          solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid) {
-  const int n_pairs = static_cast<int>(pairs_.size());
+double Coupling::evaluate(const State& state, ElementSink& sink, Status& status) {
   for (std::size_t i = 0; i < quad_.size(); ++i) {
     auto& out = points_[i];
     out = CouplingPoint{};
     out.xi = quad_[i].xi;
     out.s = quad_[i].s;
   }
-  double energy = 0;
   bool bad = false;
+  double energy = evaluate_pairs(state, sink, bad);
+  energy += evaluate_soft_points(state, sink, bad);
+  if (bad)
+    status.merge(Status::invalid("a beam point of interaction '" + name_ +
+                                 "' lies inside the plate, where the interaction law has no value"));
+  energy_ = energy;
+  return energy;
+}
+
+double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad) {
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
+  const bool with_tangent = sink.with_tangent();
+  const int n_pairs = static_cast<int>(pairs_.size());
   const bool need_third = formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact;
+  double energy = 0;
 #pragma omp parallel reduction(+ : energy) reduction(|| : bad)
   {
     Eigen::VectorXd r;
@@ -317,24 +251,24 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
     for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
       if (pair_points_[k_pair].empty()) continue;  // a neighbour kept in the pattern only
       const auto [eb, es] = pairs_[k_pair];
-      const auto& bel = b.elements[eb];
-      const auto& sel = s.elements[es];
-      const auto qb = b.current(bel.control_points, u, dofs);
+      const auto& bel = beam_.elements[eb];
+      const auto& sel = shell_.elements[es];
+      const auto qb = beam_.current(bel.control_points, u, dofs);
       p.beam_x = qb.topRows<3>();
-      p.shell_x = s.current(s.element_control_points[es], u, dofs);
+      p.shell_x = shell_.current(shell_.element_control_points[es], u, dofs);
       const int n = 4 * static_cast<int>(bel.control_points.size()) + 3 * static_cast<int>(p.shell_x.cols());
       r.setZero(n);
       if (with_tangent) k.setZero(n, n);
       for (int i : pair_points_[k_pair]) {
         const auto& qp = quad_[i];
         const auto& proj = projection_[i];
-        p.beam_basis = b.curve.basis(qp.xi, 1).R.topRows(2);
-        p.shell_basis = s.surface.basis_in(sel.span_u, sel.span_v, proj.u, proj.v).R;
-        if (need_third) p.shell_basis3 = spline::basis3_in(s.surface, sel.span_u, sel.span_v, proj.u, proj.v).R;
+        p.beam_basis = beam_.curve.basis(qp.xi, 1).R.topRows(2);
+        p.shell_basis = shell_.surface.basis_in(sel.span_u, sel.span_v, proj.u, proj.v).R;
+        if (need_third) p.shell_basis3 = spline::basis3_in(shell_.surface, sel.span_u, sel.span_v, proj.u, proj.v).R;
         p.weight = qp.weight;
         try {
           double e = 0;
-          const auto res = interaction::add_sbs_point(law_, formulation_, ff_tangent_, p, &e, &r,
+          const auto res = interaction::add_sbs_point(*law_, formulation_, ff_tangent_, p, &e, &r,
                                                       with_tangent ? &k : nullptr);
           energy += e;
           auto& out = points_[i];
@@ -348,46 +282,9 @@ double Coupling::assemble(const BeamBody& b, const ShellBody& s, const Eigen::Ve
           bad = true;  // the beam has entered the plate: no potential there; Newton must cut back
         }
       }
-      a.add(first_element + k_pair, r, with_tangent ? &k : nullptr);
+      sink.add(k_pair, r, with_tangent ? &k : nullptr);
     }
   }
-  // Soft-minimum points: each adds the sub-block of its support to the one soft element.
-  const int n_soft = static_cast<int>(soft_.size());
-  if (n_soft > 0) {
-    const double beta = this->beta();
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
-    for (int k = 0; k < n_soft; ++k) {
-      const SoftPoint& sp = soft_[k];
-      const auto& qp = quad_[sp.point];
-      const auto qb = b.current(b.elements[qp.element].control_points, u, dofs);
-      const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
-      const Eigen::Matrix3Xd window_x = s.current(sp.window.control_points, u, dofs);
-      const Eigen::RowVectorXd basis = b.curve.basis(qp.xi, 0).R.row(0);
-      Eigen::VectorXd r;
-      Eigen::MatrixXd kt;
-      std::vector<int> support;
-      try {
-        double e = 0;
-        Eigen::Vector3d f;
-        const double D = interaction::add_soft_rf2_point(law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
-                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
-        energy += e;
-        auto& out = points_[sp.point];
-        out.active = true;
-        out.soft = true;
-        out.distance = D;
-        out.energy_density = e / qp.weight;
-        out.force = -f;
-        out.position = beam_x * basis.transpose();
-        for (int& i : support) i = sp.to_union[i];
-        a.add(first_element + n_pairs, support, r, with_tangent ? &kt : nullptr);
-      } catch (const std::domain_error&) {
-        bad = true;
-      }
-    }
-  }
-  invalid = bad;
-  energy_ = energy;
   return energy;
 }
 

@@ -11,13 +11,14 @@
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
 #include "interaction/soft_distance.hpp"
-#include "laws/lennard_jones.hpp"
+#include "laws/interaction_law.hpp"
+#include "model/contribution.hpp"
 #include "solve/forward.hpp"
 
 namespace fibrane::model {
 
-struct BeamBody;
-struct ShellBody;
+class BeamBody;
+class ShellBody;
 
 // What one beam quadrature point sees, for output.
 struct CouplingPoint {
@@ -28,38 +29,39 @@ struct CouplingPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
 
-class Coupling {
+class Coupling final : public Contribution {
  public:
-  Coupling(std::string name, int beam, int shell, laws::LennardJonesDiskPlate law, interaction::Formulation f,
+  Coupling(std::string name, std::shared_ptr<const laws::InteractionLaw> law, interaction::Formulation f,
            interaction::FfTangent ff_tangent, const BeamBody& b, const ShellBody& s);
 
-  const std::string& name() const { return name_; }
-  int beam() const { return beam_; }
-  int shell() const { return shell_; }
-  const laws::LennardJonesDiskPlate& law() const { return law_; }
+  const BeamBody& beam() const { return beam_; }
+  const ShellBody& shell() const { return shell_; }
+  const laws::InteractionLaw& law() const { return *law_; }
   interaction::Formulation formulation() const { return formulation_; }
-  bool symmetric() const { return formulation_ == interaction::Formulation::RF2 ||
-                                  (formulation_ == interaction::Formulation::FF &&
-                                   ff_tangent_ == interaction::FfTangent::exact); }
 
-  // Step 1 of an evaluation: project every beam quadrature point onto the current shell and collect the
-  // (beam element, shell element) pairs. Returns true if the sparsity pattern must be rebuilt.
-  bool project(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs);
-  // DOF lists of the current pairs (beam element DOFs followed by shell element DOFs).
-  std::vector<std::vector<int>> pair_dofs(const BeamBody& b, const ShellBody& s, const solve::DofMap& dofs) const;
-  // Step 2: adds every pair's residual (and tangent); pair element ids start at `first_element`. Returns
-  // the interaction energy; sets `invalid` when a point's state lies outside the law's domain.
-  double assemble(const BeamBody& b, const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs,
-                  solve::SparseAssembler& a, int first_element, bool with_tangent, bool& invalid);
+  // Contribution. update(): project every beam quadrature point onto the current shell and collect the
+  // (beam element, shell element) pairs; true if the pairs' pattern changed. element_dofs(): the pairs'
+  // DOF lists (beam element DOFs followed by shell element DOFs), then the soft element if any.
+  // evaluate(): every pair's residual (and tangent); a point inside the plate makes the status invalid.
+  std::string name() const override { return name_; }
+  EnergyKind energy_kind() const override { return EnergyKind::interaction; }
+  bool variable() const override { return true; }
+  bool update(const State& s) override;
+  std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
+  double evaluate(const State& s, ElementSink& sink, Status& status) override;
+  bool symmetric() const override {
+    return formulation_ == interaction::Formulation::RF2 ||
+           (formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact);
+  }
   // After a converged step: its projections are the ones a failed attempt returns to. Every evaluation
   // starts from the previous evaluation's projections (the branch each point is on).
-  void accept();
+  void accept(const State& s) override;
   // After a failed attempt (the step is cut back): back to the last converged step's projections.
-  void reject();
+  void reject() override;
   // Closest points that jumped in the last failed attempt: moved by more than kJump d in one evaluation
   // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.
-  std::string failure_hint() const;
+  std::string failure_hint() const override;
 
   // Soft minimum (interaction/soft_distance.hpp, RF2 only): a beam point whose converged closest point
   // has relative curvature below `below`, or whose closest point jumped in a failed attempt, is evaluated
@@ -75,8 +77,9 @@ class Coupling {
  private:
   struct QuadPoint { int element; double xi, weight, s; };
   std::string name_;
-  int beam_, shell_;
-  laws::LennardJonesDiskPlate law_;
+  const BeamBody& beam_;
+  const ShellBody& shell_;
+  std::shared_ptr<const laws::InteractionLaw> law_;
   interaction::Formulation formulation_;
   interaction::FfTangent ff_tangent_;
   interaction::ShellProximity proximity_;
@@ -102,11 +105,17 @@ class Coupling {
     std::vector<int> to_union;  // the point's local DOFs (beam CPs x 4, window CPs x 3) in the soft element
   };
   double beta() const;  // 1 / (width d_eq)
-  Eigen::Vector3d beam_point(const BeamBody& b, int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
-  void update_soft_windows(const ShellBody& s);
+  Eigen::Vector3d beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
+  void update_soft_windows();
+  void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
+  bool collect_pairs();  // true if a pair outside the pattern appeared
+  double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);
+  double evaluate_soft_points(const State& s, ElementSink& sink, bool& bad);
   // All soft points share one pattern element: the union of their beam elements' and windows' control
   // points (their windows overlap almost entirely), each point adding the sub-block of its support.
-  void build_soft_element(const BeamBody& b);
+  void build_soft_element();
+  // After a converged step: points to switch to the soft minimum and windows to re-centre.
+  void request_soft_switches();
   std::vector<int> soft_beam_cps_, soft_shell_cps_;  // the soft element's control points, sorted
   double soft_width_ = 0, soft_below_ = 0;  // width 0: off
   std::vector<SoftPoint> soft_;

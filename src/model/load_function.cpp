@@ -45,6 +45,19 @@ double LoadFunction::operator()(double t) const {
   return (1.0 - s) * lo->second + s * hi->second;
 }
 
+double LoadFunction::derivative(double t) const {
+  switch (kind_) {
+    case Kind::linear: return value_;
+    case Kind::constant: return 0.0;
+    case Kind::table: break;
+  }
+  if (t < points_.front().first || t >= points_.back().first) return 0.0;
+  const auto hi = std::upper_bound(points_.begin(), points_.end(), t,
+                                   [](double v, const auto& p) { return v < p.first; });
+  const auto lo = hi - 1;
+  return (hi->second - lo->second) / (hi->first - lo->first);
+}
+
 LoadFunctions::LoadFunctions() { functions_.emplace_back("ramp", LoadFunction::linear()); }
 
 int LoadFunctions::add(std::string name, LoadFunction f) {

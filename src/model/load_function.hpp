@@ -15,6 +15,8 @@ class LoadFunction {
   static LoadFunction table(std::vector<std::pair<double, double>> points);
 
   double operator()(double t) const;
+  // df/dt; for a table the slope of the segment that starts at or before t (right derivative at nodes).
+  double derivative(double t) const;
 
  private:
   enum class Kind { linear, constant, table };
@@ -30,6 +32,7 @@ class LoadFunctions {
   int add(std::string name, LoadFunction f);
   int find(const std::string& name) const;  // -1 if unknown
   double operator()(int id, double t) const { return id < 0 ? 1.0 : functions_[id].second(t); }
+  double derivative(int id, double t) const { return id < 0 ? 0.0 : functions_[id].second.derivative(t); }
   std::vector<std::string> names() const;
 
  private:

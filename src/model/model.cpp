@@ -1,27 +1,37 @@
 #include "model/model.hpp"
 
-#include "shell/edge_moment.hpp"
-#include "spline/quadrature.hpp"
-
 #include <chrono>
 #include <cmath>
-#include <limits>
-#include <span>
 #include <stdexcept>
 
 namespace fibrane::model {
 
-int Model::add_shell(ShellBody body) {
-  body.block = dofs.add_block(body.name, body.num_control_points(), 3);
-  shells.push_back(std::move(body));
-  return static_cast<int>(shells.size()) - 1;
+void ElementSink::add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
+  assembler_.add(first_ + element, r, k);
 }
 
-int Model::add_beam(BeamBody body) {
-  body.block = dofs.add_block(body.name, body.num_control_points(), 4);
+void ElementSink::add(int element, std::span<const int> local, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
+  assembler_.add(first_ + element, local, r, k);
+}
+
+void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) { assembler_.add_vector(dofs, r); }
+
+void ElementSink::add_rate(std::span<const int> dofs, const Eigen::VectorXd& r_t) { assembler_.add_rate(dofs, r_t); }
+
+ShellBody& Model::add_shell(ShellBody body) {
+  body.block = dofs.add_block(body.name(), body.num_control_points(), 3);
+  return shells.emplace_back(std::move(body));
+}
+
+BeamBody& Model::add_beam(BeamBody body) {
+  body.block = dofs.add_block(body.name(), body.num_control_points(), 4);
   body.initialise_states();
-  beams.push_back(std::move(body));
-  return static_cast<int>(beams.size()) - 1;
+  return beams.emplace_back(std::move(body));
+}
+
+Contribution& Model::add_contribution(std::unique_ptr<Contribution> c) {
+  if (finalized_) throw std::logic_error("Model::add_contribution after finalize");
+  return *extra_.emplace_back(std::move(c));
 }
 
 solve::CurveEval Model::curve_eval() const {
@@ -30,50 +40,45 @@ solve::CurveEval Model::curve_eval() const {
 
 void Model::finalize() {
   constraints.finalize(dofs.size());
-  std::vector<std::vector<int>> element_dofs;  // the fixed elements: shells, beams, loads
-  for (const auto& s : shells) {
-    shell_first_element_.push_back(static_cast<int>(element_dofs.size()));
-    for (auto& d : s.element_dofs(dofs)) element_dofs.push_back(std::move(d));
-  }
-  for (const auto& b : beams) {
-    beam_first_element_.push_back(static_cast<int>(element_dofs.size()));
-    for (auto& d : b.element_dofs(dofs)) element_dofs.push_back(std::move(d));
-  }
-  moment_first_element_ = static_cast<int>(element_dofs.size());
-  for (const auto& m : moments) {
-    const auto all = beams[m.beam].element_dofs(dofs);
-    element_dofs.push_back(all[m.element]);
-  }
-  for (const auto& em : edge_moments) {
-    edge_moment_first_element_.push_back(static_cast<int>(element_dofs.size()));
-    const auto all = shells[em.shell].element_dofs(dofs);
-    for (int e : em.elements) element_dofs.push_back(all[e]);
+  // Evaluation order: bodies, couplings, moments, loads, then the others; element ids: the fixed
+  // contributions' elements first, then the variable ones (set_variable_elements).
+  entries_.clear();
+  for (auto& s : shells) entries_.push_back({&s, 0, &PhaseTimes::shell});
+  for (auto& b : beams) entries_.push_back({&b, 0, &PhaseTimes::beam});
+  for (auto& c : couplings) entries_.push_back({&c, 0, &PhaseTimes::interaction});
+  for (auto& m : moments) entries_.push_back({&m, 0, &PhaseTimes::other});
+  for (auto& e : edge_moments) entries_.push_back({&e, 0, &PhaseTimes::other});
+  entries_.push_back({&nodal_loads, 0, &PhaseTimes::other});
+  for (auto& c : extra_) entries_.push_back({c.get(), 0, &PhaseTimes::other});
+  std::vector<std::vector<int>> element_dofs;
+  for (auto& e : entries_) {
+    if (e.contribution->variable()) continue;
+    e.first_element = static_cast<int>(element_dofs.size());
+    for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
   assembler_.set_pattern(constraints, element_dofs);
   constrained_dofs_ = constraints.constrained_dofs();
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
-  for (auto& c : couplings) c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
-  rebuild_pattern();
+  for (auto& e : entries_)
+    if (e.contribution->variable()) e.contribution->update(state());
+  rebuild_variable_elements();
   finalized_ = true;
 }
 
-void Model::rebuild_pattern() {
-  // Only the coupling elements change: the shell, beam and load elements keep their pattern.
-  std::vector<std::vector<int>> coupling_dofs;
-  coupling_first_element_.clear();
-  for (const auto& c : couplings) {
-    coupling_first_element_.push_back(assembler_.num_fixed_elements() + static_cast<int>(coupling_dofs.size()));
-    for (auto& d : c.pair_dofs(beams[c.beam()], shells[c.shell()], dofs)) coupling_dofs.push_back(std::move(d));
+void Model::rebuild_variable_elements() {
+  // Only the variable contributions' elements change: the fixed ones keep their pattern.
+  std::vector<std::vector<int>> element_dofs;
+  for (auto& e : entries_) {
+    if (!e.contribution->variable()) continue;
+    e.first_element = assembler_.num_fixed_elements() + static_cast<int>(element_dofs.size());
+    for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
-  assembler_.set_variable_elements(coupling_dofs);
+  assembler_.set_variable_elements(element_dofs);
 }
 
 bool Model::symmetric() const {
-  // The load stiffness of a point moment (Eq. 54, B8-B9) is not symmetric: M . delta omega is not the
-  // variation of a potential for a fixed spatial M.
-  if (!moments.empty()) return false;
-  for (const auto& c : couplings)
-    if (!c.symmetric()) return false;
+  for (const auto& e : entries_)
+    if (!e.contribution->symmetric()) return false;
   return true;
 }
 
@@ -89,123 +94,51 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   if (with_tangent) ++times_.tangents;
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
-  bool pairs_changed = false;
-  for (auto& c : couplings) pairs_changed |= c.project(beams[c.beam()], shells[c.shell()], u_, dofs);
+  bool changed = false;
+  for (auto& e : entries_)
+    if (e.contribution->variable()) changed |= e.contribution->update(state());
   lap(times_.projection);
-  if (pairs_changed) {
-    rebuild_pattern();
+  if (changed) {
+    rebuild_variable_elements();
     ++times_.pattern_rebuilds;
   }
-  assembler_.begin(with_tangent);
+  // d r / d t comes with every tangent: the assembler applies the element matrices to dg/dt.
+  if (with_tangent)
+    prescribed_rate_ = constraints.prescribed_rate(t, [this](int curve, double s) { return functions.derivative(curve, s); });
+  assembler_.begin(with_tangent, with_tangent ? &prescribed_rate_ : nullptr);
   lap(times_.pattern);
-  energy_ = 0.0;
-  for (std::size_t i = 0; i < shells.size(); ++i)
-    energy_ += shells[i].assemble(u_, dofs, assembler_, shell_first_element_[i], with_tangent);
-  lap(times_.shell);
-  for (std::size_t i = 0; i < beams.size(); ++i)
-    energy_ += beams[i].assemble(u_, dofs, assembler_, beam_first_element_[i], with_tangent);
-  lap(times_.beam);
-  bool invalid = false;
-  for (std::size_t i = 0; i < couplings.size(); ++i) {
-    auto& c = couplings[i];
-    bool bad = false;
-    c.assemble(beams[c.beam()], shells[c.shell()], u_, dofs, assembler_, coupling_first_element_[i], with_tangent, bad);
-    invalid |= bad;
-  }
-  lap(times_.interaction);
-  for (std::size_t i = 0; i < moments.size(); ++i) {
-    const auto& m = moments[i];
-    const auto& b = beams[m.beam];
-    const auto& cps = b.elements[m.element].control_points;
-    const beam::BeamDofs qe = b.current(cps, u_, dofs);
-    const int n = 4 * static_cast<int>(cps.size());
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
-    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-    const beam::BasisDerivs basis = b.curve.basis(m.xi, 2).R.topRows(3);
-    beam::add_point_moment(functions(m.function, t) * m.moment, basis, qe, m.state, &r,
-                           with_tangent ? &k : nullptr);
-    assembler_.add(moment_first_element_ + static_cast<int>(i), r, with_tangent ? &k : nullptr);
-  }
-  for (std::size_t i = 0; i < edge_moments.size(); ++i)
-    assemble_edge_moment(edge_moments[i], edge_moment_first_element_[i], with_tangent);
-  if (invalid) {
-    // A state outside the interaction law's domain (the beam inside the plate) has no residual: report a
-    // non-finite one so that Newton fails cleanly and the continuation cuts the step back.
-    const int dof0 = 0;
-    assembler_.add_vector(std::span<const int>(&dof0, 1),
-                          Eigen::VectorXd::Constant(1, std::numeric_limits<double>::quiet_NaN()));
-  }
-  double load_sq = 0.0;
-  for (const auto& l : nodal_loads) {
-    const double f = functions(l.function, t);
-    assembler_.add_vector(l.dofs, -f * l.values);
-    load_sq += f * f * l.values.squaredNorm();
+  for (double& e : energies_) e = 0.0;
+  status_ = Status{};
+  const State s = state();
+  for (auto& e : entries_) {
+    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent);
+    energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
+    lap(times_.*e.time);
   }
   assembler_.end();
   // The reference force level for Newton's relative tolerance: external loads, or, for problems driven by
   // prescribed displacements, the reactions they cause.
   double reaction_sq = 0.0;
   for (int d : constrained_dofs_) reaction_sq += full_residual()[d] * full_residual()[d];
-  load_scale_ = std::sqrt(std::max(load_sq, reaction_sq));
+  load_scale_ = std::sqrt(std::max(nodal_loads.squared_norm(s), reaction_sq));
   lap(times_.other);
 }
 
-void Model::assemble_edge_moment(const EdgeMoment& em, int first_element, bool with_tangent) {
-  const auto& s = shells[em.shell];
-  const bool u_edge = em.edge[0] == 'u';  // the edge lies at fixed u; v runs along it
-  const bool at_end = em.edge[1] == '1';
-  const int across = u_edge ? 1 : 2, along = u_edge ? 2 : 1;
-  const double sign = at_end ? 1.0 : -1.0;  // outward derivative
-  const auto g = spline::gauss_legendre(s.surface.degree(u_edge ? 1 : 0) + 1);
-  const Eigen::Vector3d moment = functions(em.function, t_) * em.moment;
-  for (std::size_t k = 0; k < em.elements.size(); ++k) {
-    const auto& el = s.elements[em.elements[k]];
-    const auto& cps = s.element_control_points[em.elements[k]];
-    const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u_, dofs);
-    const int n = 3 * static_cast<int>(cps.size());
-    Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
-    Eigen::MatrixXd kt = Eigen::MatrixXd::Zero(n, n);
-    const double a = u_edge ? el.v0 : el.u0, b = u_edge ? el.v1 : el.u1, j = 0.5 * (b - a);
-    const double fixed = u_edge ? (at_end ? el.u1 : el.u0) : (at_end ? el.v1 : el.v0);
-    for (std::size_t q = 0; q < g.points.size(); ++q) {
-      const double t = a + (g.points[q] + 1.0) * j;
-      const auto basis = u_edge ? s.surface.basis_in(el.span_u, el.span_v, fixed, t)
-                                : s.surface.basis_in(el.span_u, el.span_v, t, fixed);
-      const double length = (X * basis.R.row(along).transpose()).norm();
-      const Eigen::RowVectorXd dR = sign * basis.R.row(across);
-      shell::add_edge_moment_point(moment, dR, x, g.weights[q] * j * length, &r, with_tangent ? &kt : nullptr);
-    }
-    assembler_.add(first_element + static_cast<int>(k), r, with_tangent ? &kt : nullptr);
-  }
-}
-
 void Model::reject() {
-  for (auto& c : couplings) c.reject();
+  for (auto& e : entries_) e.contribution->reject();
 }
 
 std::string Model::failure_hint() const {
   std::string hint;
-  for (const auto& c : couplings)
-    if (const std::string h = c.failure_hint(); !h.empty()) hint += (hint.empty() ? "" : ". ") + h;
+  for (const auto& e : entries_)
+    if (const std::string h = e.contribution->failure_hint(); !h.empty()) hint += (hint.empty() ? "" : ". ") + h;
   return hint;
 }
 
 void Model::accept(const Eigen::VectorXd& q, double t) {
+  t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
-  for (auto& b : beams) b.accept(u_, dofs);
-  for (auto& c : couplings) c.accept();
-  for (auto& m : moments) {
-    const auto& b = beams[m.beam];
-    const beam::BeamDofs qe = b.current(b.elements[m.element].control_points, u_, dofs);
-    beam::update_point_state(m.state, b.curve.basis(m.xi, 2).R.topRows(3), qe);
-  }
-}
-
-double Model::monitor_value(const Monitor& m) const {
-  const Eigen::VectorXd& v = m.source == Monitor::Source::displacement ? u_ : full_residual();
-  double s = m.offset;
-  for (const auto& [dof, w] : m.weights) s += w * v[dof];
-  return s;
+  for (auto& e : entries_) e.contribution->accept(state());
 }
 
 }  // namespace fibrane::model

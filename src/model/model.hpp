@@ -1,15 +1,22 @@
 #pragma once
-// The discrete model: bodies with their DOF blocks, constraints, loads and monitors. It is the
-// NonlinearSystem that Newton and the continuation of src/solve drive: given the free unknowns q and the
-// quasi-time t it assembles the reduced residual and tangent of Eq. (7).
-#include <Eigen/Dense>
-#include <Eigen/Sparse>
+// The discrete model: DOF blocks, constraints, load functions and the contributions (bodies, couplings,
+// loads) whose sum is the weak form Eq. (7). It is the NonlinearSystem that Newton and the continuation
+// methods of src/solve drive: given the free unknowns q and the load parameter t it assembles the reduced
+// residual, tangent and load derivative in one loop over its contributions.
+#include <deque>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+
 #include "model/beam_body.hpp"
+#include "model/contribution.hpp"
 #include "model/coupling.hpp"
 #include "model/load_function.hpp"
+#include "model/loads.hpp"
+#include "model/monitor.hpp"
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
 #include "solve/constraints.hpp"
@@ -17,41 +24,6 @@
 #include "solve/nonlinear.hpp"
 
 namespace fibrane::model {
-
-// A configuration-independent load: fixed values at DOFs, scaled by a load function.
-struct NodalLoad {
-  std::vector<int> dofs;
-  Eigen::VectorXd values;
-  int function = 0;
-};
-
-// A point moment on a beam (Eq. 54), scaled by a load function.
-struct PointMoment {
-  int beam = 0;
-  double xi = 0.0;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  int function = 0;
-  int element = 0;
-  beam::BeamPointState state;
-};
-
-// A moment per unit reference length along a shell edge (see shell/edge_moment.hpp).
-struct EdgeMoment {
-  int shell = 0;
-  std::string edge;        // u0, u1, v0, v1
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  int function = 0;
-  std::vector<int> elements;  // shell elements along the edge
-};
-
-// A monitor is a linear functional of the displacement or of the full residual (reaction forces).
-struct Monitor {
-  enum class Source { displacement, reaction };
-  std::string name;
-  Source source = Source::displacement;
-  std::vector<std::pair<int, double>> weights;
-  double offset = 0.0;
-};
 
 // Wall time spent in each phase of evaluate(), accumulated (seconds), for bench/ and the summary.
 struct PhaseTimes {
@@ -62,19 +34,23 @@ struct PhaseTimes {
 class Model : public solve::NonlinearSystem {
  public:
   std::string title;
-  std::vector<ShellBody> shells;
-  std::vector<BeamBody> beams;
   LoadFunctions functions;
-  std::vector<NodalLoad> nodal_loads;
-  std::vector<PointMoment> moments;
-  std::vector<EdgeMoment> edge_moments;
-  std::vector<Monitor> monitors;
-  std::vector<Coupling> couplings;
   solve::DofMap dofs;
   solve::ConstraintSet constraints;
+  // The contributions by kind, in the order they are evaluated (deques: their addresses stay valid).
+  std::deque<ShellBody> shells;
+  std::deque<BeamBody> beams;
+  std::deque<Coupling> couplings;
+  std::deque<PointMoment> moments;
+  std::deque<EdgeMoment> edge_moments;
+  NodalLoads nodal_loads;
+  std::vector<Monitor> monitors;
 
-  int add_shell(ShellBody body);
-  int add_beam(BeamBody body);
+  // Bodies get their DOF block here: 3 per shell control point, 4 (x, y, z, twist) per beam control point.
+  ShellBody& add_shell(ShellBody body);
+  BeamBody& add_beam(BeamBody body);
+  // Any other contribution (evaluated after the built-in kinds, in the order added).
+  Contribution& add_contribution(std::unique_ptr<Contribution> c);
   // Call once after bodies, constraints and loads are in place.
   void finalize();
 
@@ -86,7 +62,9 @@ class Model : public solve::NonlinearSystem {
   void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override;
   const Eigen::VectorXd& residual() const override { return assembler_.reduced_residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
+  const Eigen::VectorXd& load_derivative() const override { return assembler_.reduced_rate(); }
   int pattern_version() const override { return assembler_.pattern_version(); }
+  std::string invalid_state() const override { return status_.valid ? std::string() : status_.reason; }
   void accept(const Eigen::VectorXd& q, double t) override;
   void reject() override;
   std::string failure_hint() const override;
@@ -96,24 +74,30 @@ class Model : public solve::NonlinearSystem {
   // State of the last evaluate().
   const Eigen::VectorXd& displacement() const { return u_; }
   const Eigen::VectorXd& full_residual() const { return assembler_.full_residual(); }
-  double strain_energy() const { return energy_; }
+  double strain_energy() const { return energy(EnergyKind::strain); }
+  double energy(EnergyKind kind) const { return energies_[static_cast<int>(kind)]; }
   double time() const { return t_; }
-  double monitor_value(const Monitor& m) const;
+  double monitor_value(const Monitor& m) const { return m.value(u_, full_residual()); }
   int num_elements() const { return assembler_.num_elements(); }
   const PhaseTimes& times() const { return times_; }
   void reset_times() { times_ = PhaseTimes{}; }
 
  private:
+  struct Entry {
+    Contribution* contribution;
+    int first_element;
+    double PhaseTimes::*time;  // the phase its evaluation counts towards
+  };
+  void rebuild_variable_elements();
+  State state() const { return {u_, t_, dofs, functions}; }
+  std::vector<Entry> entries_;
+  std::vector<std::unique_ptr<Contribution>> extra_;
   solve::SparseAssembler assembler_;
-  std::vector<int> shell_first_element_, beam_first_element_;
-  int moment_first_element_ = 0;
-  std::vector<int> edge_moment_first_element_;
   std::vector<int> constrained_dofs_;
-  std::vector<int> coupling_first_element_;
-  void rebuild_pattern();
-  void assemble_edge_moment(const EdgeMoment& em, int first_element, bool with_tangent);
-  Eigen::VectorXd u_;
-  double t_ = 0.0, energy_ = 0.0, load_scale_ = 0.0;
+  Eigen::VectorXd u_, prescribed_rate_;
+  double t_ = 0.0, load_scale_ = 0.0;
+  double energies_[4] = {0, 0, 0, 0};
+  Status status_;
   bool finalized_ = false;
   PhaseTimes times_;
 };

@@ -2,7 +2,6 @@
 
 #include <omp.h>
 
-#include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
@@ -10,7 +9,7 @@
 namespace fibrane::model {
 
 ShellBody::ShellBody(std::string n, spline::NurbsSurface s, shell::ShellSection sec)
-    : name(std::move(n)), surface(std::move(s)), section(sec) {
+    : surface(std::move(s)), section(sec), name_(std::move(n)) {
   elements = surface.elements();
   element_control_points.reserve(elements.size());
   for (const auto& e : elements) {
@@ -46,8 +45,10 @@ Eigen::Matrix3Xd ShellBody::current(const std::vector<int>& cps, const Eigen::Ve
   return x;
 }
 
-double ShellBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, solve::SparseAssembler& a,
-                           int first_element, bool with_tangent) const {
+double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*status*/) {
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
+  const bool with_tangent = sink.with_tangent();
   const auto gu = spline::gauss_legendre(gauss(0));
   const auto gv = spline::gauss_legendre(gauss(1));
   const int n_elements = static_cast<int>(elements.size());
@@ -95,7 +96,7 @@ double ShellBody::assemble(const Eigen::VectorXd& u, const solve::DofMap& dofs, 
         k.setZero(n, n);
         element_tangent.add_to(k);
       }
-      a.add(first_element + e, r, with_tangent ? &k : nullptr);
+      sink.add(e, r, with_tangent ? &k : nullptr);
     }
   }
   return energy;

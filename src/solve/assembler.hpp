@@ -46,7 +46,10 @@ class SparseAssembler {
   int num_fixed_elements() const { return fixed_.size(); }
   int num_elements() const { return fixed_.size() + variable_.size(); }
 
-  void begin(bool with_matrix);  // zero the values (keep the pattern)
+  // Zeroes the values (keeps the pattern). With `prescribed_rate` (full size: dg/dt of u = T q + g(t), zero
+  // at free DOFs) and the matrix, the assembler also forms d r / d t = T^T (K dg/dt + explicit terms): every
+  // element matrix added is applied to the element's part of dg/dt, and add_rate() adds explicit terms.
+  void begin(bool with_matrix, const Eigen::VectorXd* prescribed_rate = nullptr);
   // Thread-safe inside OpenMP parallel loops. r_local/k_local are ordered like the element's DOF list;
   // k_local may be null (residual only). Convention: r = internal - external forces.
   void add(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
@@ -55,15 +58,20 @@ class SparseAssembler {
   void add(int element, std::span<const int> local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
   // Residual-only contributions at arbitrary DOFs (point loads etc.), thread-safe.
   void add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local);
-  void end();  // reduce thread buffers, form T^T r
+  // Explicit d r / d t at arbitrary DOFs (loads scaled by functions of t), thread-safe; ignored unless
+  // begin() was given a prescribed rate.
+  void add_rate(std::span<const int> dofs, const Eigen::VectorXd& r_t);
+  void end();  // reduce thread buffers, form T^T r (and T^T dr/dt)
 
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   const Eigen::VectorXd& reduced_residual() const { return reduced_residual_; }
   const Eigen::VectorXd& full_residual() const { return full_residual_; }
+  // T^T d r / d t of the last begin()/end() with a prescribed rate (empty otherwise).
+  const Eigen::VectorXd& reduced_rate() const { return reduced_rate_; }
 
  private:
   struct Buffer {
-    std::vector<double> values, residual;
+    std::vector<double> values, residual, rate;
     bool used = false;  // written only by the owning thread
   };
   // Flattened element maps. Element e owns local DOFs [dof_begin[e], dof_begin[e+1]) of dofs; local DOF j
@@ -96,7 +104,11 @@ class SparseAssembler {
   // Scatters element e's sub-block local(0), ..., local(n - 1).
   template <class Local>
   void scatter(const ElementTable& t, int e, int n, Local local, const Eigen::VectorXd& r_local,
-               const Eigen::MatrixXd* k_local, double* values, double* residual, bool atomic) const;
+               const Eigen::MatrixXd* k_local, double* values, double* residual, double* rate, bool atomic) const;
+  // rate[dof] += (k_local dg/dt)_a for an element that has prescribed DOFs.
+  template <class Local>
+  void scatter_rate(const ElementTable& t, int e, int n, Local local, const Eigen::MatrixXd& k_local, double* rate,
+                    bool atomic) const;
   template <class Local>
   void add_block(int element, int n, Local local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
 
@@ -111,6 +123,8 @@ class SparseAssembler {
 
   Eigen::SparseMatrix<double> matrix_;
   Eigen::VectorXd full_residual_, reduced_residual_;
+  const Eigen::VectorXd* prescribed_rate_ = nullptr;  // dg/dt while a rate is assembled, else null
+  Eigen::VectorXd full_rate_, reduced_rate_;
   std::vector<Buffer> buffers_;  // index = OpenMP thread number; [0] unused (thread 0 writes directly)
   Buffer overflow_;              // atomically shared by callers without a private buffer
 };

@@ -209,6 +209,16 @@ Eigen::VectorXd ConstraintSet::expand(const Eigen::VectorXd& q, double t, const 
   return u;
 }
 
+Eigen::VectorXd ConstraintSet::prescribed_rate(double t, const CurveEval& curve_derivatives) const {
+  if (!finalized_) throw std::logic_error("ConstraintSet used before finalize()");
+  Eigen::VectorXd g_t = Eigen::VectorXd::Zero(n_dofs_);
+  for (int d = 0; d < n_dofs_; ++d)
+    if (slave_of_[static_cast<size_t>(d)] >= 0)
+      for (const auto& [curve, amp] : resolved_[static_cast<size_t>(d)].terms)
+        if (curve >= 0) g_t[d] += amp * curve_derivatives(curve, t);
+  return g_t;
+}
+
 Eigen::VectorXd ConstraintSet::restrict_vector(const Eigen::VectorXd& full) const {
   if (!finalized_) throw std::logic_error("ConstraintSet used before finalize()");
   if (full.size() != n_dofs_) throw std::invalid_argument("ConstraintSet::restrict_vector: wrong size");

@@ -49,6 +49,8 @@ class ConstraintSet {
   const std::vector<std::pair<int, double>>& prescribed_terms(int dof) const;
 
   Eigen::VectorXd expand(const Eigen::VectorXd& q, double t, const CurveEval& curves) const;  // T q + g
+  // dg/dt: the prescribed part's rate, given the curves' derivatives (constant terms have none).
+  Eigen::VectorXd prescribed_rate(double t, const CurveEval& curve_derivatives) const;
   Eigen::VectorXd restrict_vector(const Eigen::VectorXd& full) const;                            // T^T r
   Eigen::VectorXd free_values(const Eigen::VectorXd& u) const;  // q from a consistent full u
   std::vector<int> constrained_dofs() const;                   // increasing order

@@ -3,11 +3,23 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include "common/format.hpp"
 
 namespace fibrane::solve {
+
+namespace {
+
+// |r| of the last evaluation, NaN for a state outside the system's domain (so that the line search backs
+// off from it and Newton fails on it like on a non-finite residual).
+double residual_norm(const NonlinearSystem& sys) {
+  if (!sys.invalid_state().empty()) return std::numeric_limits<double>::quiet_NaN();
+  return sys.residual().norm();
+}
+
+}  // namespace
 
 const Eigen::VectorXd& NonlinearSystem::load_derivative() const {
   static const Eigen::VectorXd none;
@@ -34,7 +46,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
   for (int it = 0;; ++it) {
     bool with_tangent = !reuse && !expect_converged;
     sys.evaluate(q, t, with_tangent);
-    double norm = sys.residual().norm();
+    double norm = residual_norm(sys);
     // Backtracking on |r| (steps.line_search, off by default): a full update that raised the residual is
     // halved (not at the round-off floor, where |r| wanders). It turns overshooting updates (Newton on
     // atan diverges) into converging ones; it did not help where the residual is discontinuous (the
@@ -45,7 +57,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       q -= applied * last_update;
       ++rep.backtracks;
       sys.evaluate(q, t, with_tangent);
-      const double reduced = sys.residual().norm();
+      const double reduced = residual_norm(sys);
       if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e: update x %g, |r|=%.6e\n", t, it, norm, applied, reduced);
       norm = reduced;
     }
@@ -54,7 +66,9 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     rep.history.push_back(norm);
     if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t, it, norm);
     if (!std::isfinite(norm)) {
-      rep.failure = "non-finite residual at iteration " + std::to_string(it);
+      const std::string why = sys.invalid_state();
+      rep.failure = (why.empty() ? "non-finite residual" : "invalid state (" + why + ")") + " at iteration " +
+                    std::to_string(it);
       return rep;
     }
     if (it == 0) scale = std::max(norm, sys.residual_scale());

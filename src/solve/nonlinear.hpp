@@ -24,6 +24,10 @@ class NonlinearSystem {
   // Systems that do not provide it return an empty vector.
   virtual const Eigen::VectorXd& load_derivative() const;
   virtual int pattern_version() const = 0;                         // solver re-analyses when it changes
+  // Why the state of the last evaluate() lies outside the system's domain (e.g. a beam inside the plate,
+  // where the interaction law has no value); empty when it does not. Newton treats such an iterate like
+  // one with a non-finite residual (backtracking, then failure with this reason).
+  virtual std::string invalid_state() const { return {}; }
   virtual bool symmetric() const { return true; }
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
   virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step

@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "laws/lennard_jones.hpp"
 #include "interaction/closest_point.hpp"
 #include "interaction/sbs_point.hpp"
 #include "spline/surface_third.hpp"

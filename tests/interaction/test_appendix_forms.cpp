@@ -4,6 +4,7 @@
 // themselves verified against finite differences in test_sbs_point.cpp). This pins down the typos.
 #include <gtest/gtest.h>
 
+#include "laws/lennard_jones.hpp"
 #include "pair_fixture.hpp"
 #include "test_geometry.hpp"
 

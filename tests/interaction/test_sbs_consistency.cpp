@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "laws/lennard_jones.hpp"
 #include "pair_fixture.hpp"
 #include "spline/quadrature.hpp"
 #include "spline/shapes.hpp"

@@ -6,6 +6,7 @@
 #include <functional>
 #include <random>
 
+#include "laws/lennard_jones.hpp"
 #include "pair_fixture.hpp"
 #include "test_geometry.hpp"
 

@@ -7,6 +7,7 @@
 #include <functional>
 #include <random>
 
+#include "laws/lennard_jones.hpp"
 #include "interaction/soft_distance.hpp"
 #include "pair_fixture.hpp"
 #include "spline/shapes.hpp"

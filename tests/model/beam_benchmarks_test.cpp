@@ -165,14 +165,14 @@ TEST(BeamBenchmarks, SpatialPointMomentConvergesWithDefaultSolver) {
 // Marches an example to t_stop (frame references updated after every converged step), then applies
 // `iterations` plain Newton updates towards t_next. Returns the case and the unknowns.
 struct Marched {
-  model::Case c;
+  casefile::Case c;
   Eigen::VectorXd q;
 };
 
 Marched march(const std::string& example, double t_stop, double t_next, int iterations, bool print) {
   const auto dir = fresh_directory("beam-march-" + example);
   std::ofstream(dir / example) << example_text(example);
-  Marched r{model::read_case((dir / example).string()), {}};
+  Marched r{casefile::read_case((dir / example).string()), {}};
   auto& m = *r.c.model;
   auto solver = solve::make_linear_solver("umfpack", false);
   r.q = m.initial_unknowns();

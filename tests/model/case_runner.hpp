@@ -11,8 +11,8 @@
 #include <utility>
 #include <vector>
 
-#include "model/case_reader.hpp"
-#include "model/run.hpp"
+#include "case/case_reader.hpp"
+#include "run/run.hpp"
 
 namespace fibrane::testing {
 
@@ -61,8 +61,8 @@ inline History read_history(const std::filesystem::path& csv) {
 }
 
 struct CaseRun {
-  model::Case c;
-  model::RunSummary summary;
+  casefile::Case c;
+  run::RunSummary summary;
   History history;
   std::filesystem::path directory;
 };
@@ -72,12 +72,12 @@ inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int th
   const auto dir = fresh_directory(name);
   const auto file = dir / (name + ".yaml");
   std::ofstream(file) << yaml;
-  CaseRun r{model::read_case(file.string()), {}, {}, dir / "out"};
-  model::RunOptions opt;
+  CaseRun r{casefile::read_case(file.string()), {}, {}, dir / "out"};
+  run::RunOptions opt;
   opt.output_directory = r.directory.string();
   opt.quiet = true;
   opt.threads = threads;
-  r.summary = model::run_case(r.c, opt);
+  r.summary = run::run_case(r.c, opt);
   r.history = read_history(r.directory / "history.csv");
   return r;
 }
@@ -138,7 +138,7 @@ inline double coupling_tangent_error(const std::string& name, const std::string&
   for (int k = 0; k < 2; ++k) {
     std::ofstream(dir / "case.yaml") << beam_over_panel_case(interaction_keys, k == 0 ? ", strength: 1.0e4"
                                                                                       : ", strength: 2.0e4");
-    auto c = model::read_case((dir / "case.yaml").string());
+    auto c = casefile::read_case((dir / "case.yaml").string());
     auto& m = *c.model;
     if (k == 0) {
       std::mt19937 rng(seed);

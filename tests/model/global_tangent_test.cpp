@@ -42,7 +42,7 @@ steps: {dt: 1}
 TEST(GlobalTangent, MatchesFiniteDifferencesOfReducedResidual) {
   const auto dir = fresh_directory("global-tangent");
   std::ofstream(dir / "case.yaml") << curved_shell_and_beam;
-  auto c = model::read_case((dir / "case.yaml").string());
+  auto c = casefile::read_case((dir / "case.yaml").string());
   auto& m = *c.model;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-0.05, 0.05);

@@ -56,7 +56,7 @@ TEST(InteractionModel, ParallelBeamEnergyIsLengthTimesLaw) {
   for (const char* f : {"RF2", "RF1", "FF"}) {
     const auto dir = fresh_directory(std::string("parallel-energy-") + f);
     std::ofstream(dir / "case.yaml") << parallel_case(z, f);
-    auto c = model::read_case((dir / "case.yaml").string());
+    auto c = casefile::read_case((dir / "case.yaml").string());
     c.model->evaluate(c.model->initial_unknowns(), 0.0, false);
     const double expected = 4.0 * law.evaluate(z, 1.0).value;
     EXPECT_NEAR(c.model->couplings[0].energy(), expected, 1e-10 * std::abs(expected)) << f;
@@ -97,7 +97,7 @@ TEST(InteractionModel, SymmetryShareHalvesTheBeamsContributions) {
     yaml.replace(yaml.find(section), section.size(), section + "\n    symmetry_share: " + share);
     const auto dir = fresh_directory("share-" + share);
     std::ofstream(dir / "case.yaml") << yaml;
-    auto c = model::read_case((dir / "case.yaml").string());
+    auto c = casefile::read_case((dir / "case.yaml").string());
     Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(c.model->size(), 0.0, 0.002);
     c.model->evaluate(q, 1.0, false);
     return std::make_tuple(c.model->strain_energy(), c.model->couplings[0].energy(),

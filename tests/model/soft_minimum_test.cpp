@@ -42,7 +42,7 @@ void expect_input_error(const std::string& name, const std::string& soft, const 
   const auto dir = fresh_directory("soft-minimum-" + name);
   std::ofstream(dir / "case.yaml") << beam_over_panel_case(soft);
   try {
-    model::read_case((dir / "case.yaml").string());
+    casefile::read_case((dir / "case.yaml").string());
     FAIL() << name << ": must be rejected";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();

@@ -8,7 +8,9 @@
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
 
-namespace fibrane::model {
+namespace fibrane::casefile {
+
+using model::Model;
 
 using Site = std::vector<std::pair<int, double>>;  // (control point, weight)
 
@@ -28,4 +30,4 @@ std::vector<int> boundary_row(const Model& m, const BodyRef& b, const io::YamlNo
 // Component name -> index: x, y, z (all bodies), twist (beams).
 int component(const BodyRef& b, const io::YamlNode& node);
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

@@ -1,4 +1,4 @@
-#include "model/case_geometry.hpp"
+#include "case/case_geometry.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -6,7 +6,7 @@
 
 #include "spline/shapes.hpp"
 
-namespace fibrane::model {
+namespace fibrane::casefile {
 
 namespace {
 
@@ -156,4 +156,4 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
   return curve;
 }
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

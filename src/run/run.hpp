@@ -1,11 +1,12 @@
 #pragma once
-// Runs a case: quasi-time continuation of the model, writing results after every converged step.
+// Runs a case: the continuation method the case chose marches along the model's path, and after every
+// converged step the results are written and the case's stop rule is checked.
 #include <string>
 
-#include "model/case_reader.hpp"
+#include "case/case.hpp"
 #include "solve/continuation.hpp"
 
-namespace fibrane::model {
+namespace fibrane::run {
 
 struct RunOptions {
   std::string output_directory;  // overrides the case's output.directory when non-empty
@@ -20,6 +21,6 @@ struct RunSummary {
   std::string directory;
 };
 
-RunSummary run_case(Case& c, const RunOptions& options);
+RunSummary run_case(casefile::Case& c, const RunOptions& options);
 
-}  // namespace fibrane::model
+}  // namespace fibrane::run

@@ -1,15 +1,23 @@
-#include "model/case_reader.hpp"
+#include "case/case_reader.hpp"
 
 #include <algorithm>
 #include <filesystem>
 
 #include "common/error.hpp"
 
-#include "model/case_conditions.hpp"
-#include "model/case_geometry.hpp"
-#include "model/results.hpp"
+#include "case/case_conditions.hpp"
+#include "case/case_geometry.hpp"
+#include "io/yaml_parameters.hpp"
+#include "laws/law_registry.hpp"
+#include "laws/lennard_jones.hpp"
+#include "model/observables.hpp"
 
-namespace fibrane::model {
+namespace fibrane::casefile {
+
+using model::BeamBody;
+using model::LoadFunction;
+using model::Model;
+using model::ShellBody;
 
 namespace {
 
@@ -91,20 +99,34 @@ void read_beam(Model& m, const io::YamlNode& node) {
   m.add_beam(std::move(body));
 }
 
+// The interaction law: `lennard_jones: {epsilon, sigma, ...}` or `law: {model: NAME, ...}` (any law of
+// laws::law_registry()).
+std::shared_ptr<const laws::InteractionLaw> read_law(const io::YamlNode& node, const laws::LawGeometry& g) {
+  const bool lj = node.has("lennard_jones"), general = node.has("law");
+  if (lj == general) node.fail_message("give the interaction law either as 'lennard_jones: {...}' or as 'law: {model: ...}'");
+  if (lj) return laws::law_registry().make("lennard_jones", io::YamlParameters(node["lennard_jones"]), g);
+  const auto law = node["law"];
+  if (!law.is_map()) law.fail("a map {model: NAME, parameters...}");
+  const auto model = law["model"];
+  const std::string name = model.as_string();
+  if (!laws::law_registry().find(name)) model.fail("one of " + laws::law_registry().names_text());
+  return laws::law_registry().make(name, io::YamlParameters(law, {"model"}), g);
+}
+
 void read_interaction(Model& m, const io::YamlNode& node) {
   const auto beam_node = node["beam"], shell_node = node["shell"];
-  int beam = -1, shell = -1;
-  for (std::size_t i = 0; i < m.beams.size(); ++i)
-    if (m.beams[i].name == beam_node.as_string()) beam = static_cast<int>(i);
-  for (std::size_t i = 0; i < m.shells.size(); ++i)
-    if (m.shells[i].name == shell_node.as_string()) shell = static_cast<int>(i);
-  if (beam < 0) beam_node.fail("the name of a beam defined in this case");
-  if (shell < 0) shell_node.fail("the name of a shell defined in this case");
-  const auto& b = m.beams[beam];
-  if (b.section_radius <= 0.0)
-    beam_node.fail_message("beam '" + b.name + "' needs a circular section (section: {circle: {radius: R}}): the "
+  const BeamBody* b = nullptr;
+  const ShellBody* shell = nullptr;
+  for (const auto& x : m.beams)
+    if (x.name() == beam_node.as_string()) b = &x;
+  for (const auto& x : m.shells)
+    if (x.name() == shell_node.as_string()) shell = &x;
+  if (!b) beam_node.fail("the name of a beam defined in this case");
+  if (!shell) shell_node.fail("the name of a shell defined in this case");
+  if (b->section_radius <= 0.0)
+    beam_node.fail_message("beam '" + b->name() + "' needs a circular section (section: {circle: {radius: R}}): the "
                            "disk-plate law integrates over a disk");
-  const std::string name = node.get("name", b.name + "_" + m.shells[shell].name);
+  const std::string name = node.get("name", b->name() + "_" + shell->name());
   const std::string f = node.get("formulation", std::string("RF2"));
   if (auto fn = node.optional("formulation")) fn->as_choice({"FF", "RF1", "RF2"});
   const auto formulation = f == "FF" ? interaction::Formulation::FF
@@ -112,16 +134,7 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   auto ff_tangent = interaction::FfTangent::exact;
   if (auto t = node.optional("ff_tangent"))
     ff_tangent = t->as_choice({"exact", "rf1"}) == "rf1" ? interaction::FfTangent::rf1 : interaction::FfTangent::exact;
-  const auto lj = node["lennard_jones"];
-  laws::LennardJonesDiskPlate law;
-  law.epsilon = lj["epsilon"].positive();
-  law.sigma = lj["sigma"].positive();
-  law.density_beam = lj.has("density_beam") ? lj["density_beam"].positive() : 1.0;
-  law.density_shell = lj.has("density_shell") ? lj["density_shell"].positive() : 1.0;
-  law.strength = lj.has("strength") ? lj["strength"].positive() : 1.0;
-  law.disk_radius = b.section_radius;
-  law.plate_thickness = m.shells[shell].section.thickness;
-  lj.reject_unknown_keys();
+  auto law = read_law(node, {b->section_radius, shell->section.thickness});
   double soft_width = 0, soft_below = 0;
   if (auto soft = node.optional("soft_minimum")) {
     if (formulation != interaction::Formulation::RF2)
@@ -129,18 +142,23 @@ void read_interaction(Model& m, const io::YamlNode& node) {
     soft_width = (*soft)["width"].in_range(0.0, 5e-3, true, false);
     soft_below = soft->has("below") ? (*soft)["below"].positive() : 0.05;
     soft->reject_unknown_keys();
+    try {
+      law->equilibrium_distance(1.0);
+    } catch (const std::runtime_error& e) {
+      soft->fail_message(std::string("the soft minimum's width is relative to the law's equilibrium distance: ") + e.what());
+    }
   }
   node.reject_unknown_keys();
   for (const auto& c : m.couplings)
     if (c.name() == name) node["name"].fail("an interaction name not used before");
-  m.couplings.emplace_back(name, beam, shell, law, formulation, ff_tangent, b, m.shells[shell]);
+  m.couplings.emplace_back(name, std::move(law), formulation, ff_tangent, *b, *shell);
   if (soft_width > 0) m.couplings.back().enable_soft_minimum(soft_width, soft_below);
 }
 
 void check_unique_names(const Model& m, const io::YamlNode& root) {
   std::vector<std::string> names;
-  for (const auto& s : m.shells) names.push_back(s.name);
-  for (const auto& b : m.beams) names.push_back(b.name);
+  for (const auto& s : m.shells) names.push_back(s.name());
+  for (const auto& b : m.beams) names.push_back(b.name());
   for (std::size_t i = 0; i < names.size(); ++i)
     for (std::size_t j = i + 1; j < names.size(); ++j)
       if (names[i] == names[j]) root.fail_message("two bodies are named '" + names[i] + "'");
@@ -169,13 +187,18 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
   if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
   s.max_steps = node->get("max_steps", s.max_steps);
-  run.linear = node->get("linear", run.linear);
+  if (auto method = node->optional("method"))
+    run.method = method->as_choice({"load_stepping", "linear"}) == "linear" ? Method::linear : Method::load_stepping;
+  if (auto linear = node->optional("linear")) {  // the short form of method: linear
+    if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
+    if (linear->as_bool()) run.method = Method::linear;
+  }
   if (auto stop = node->optional("stop")) {
     if (stop->has("column") || stop->has("below_fraction_of_peak")) {
       run.stop_column = (*stop)["column"].as_string();
       run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
     }
-    run.stop_at_limit_point = stop->get("at_limit_point", false);
+    s.stop_at_limit_point = stop->get("at_limit_point", false);
     stop->reject_unknown_keys();
   }
   s.extrapolate = node->get("extrapolate", s.extrapolate);
@@ -227,12 +250,13 @@ Case read_case(const std::string& path) {
   for_each_entry(root.optional("monitors"), [&](const io::YamlNode& n) { read_monitor(m, n); });
   read_steps(c.run, root.optional("steps"));
   if (!c.run.stop_column.empty()) {
-    const auto columns = history_columns(m);
-    if (std::find(columns.begin(), columns.end(), c.run.stop_column) == columns.end()) {
-      std::string known;
-      for (const auto& k : columns) known += (known.empty() ? "" : ", ") + k;
-      root["steps"]["stop"]["column"].fail("a history column (" + known + ")");
+    std::string known;
+    bool found = false;
+    for (const auto& o : model::observables(m)) {
+      known += (known.empty() ? "" : ", ") + o.name;
+      found |= o.name == c.run.stop_column;
     }
+    if (!found) root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
   }
   read_output(c.output, root.optional("output"), c.name);
   root.reject_unknown_keys();
@@ -244,4 +268,4 @@ Case read_case(const std::string& path) {
   return c;
 }
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

@@ -4,9 +4,9 @@
 #include "spline/curve.hpp"
 #include "spline/surface.hpp"
 
-namespace fibrane::model {
+namespace fibrane::casefile {
 
 spline::NurbsSurface read_surface(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine);
 spline::NurbsCurve read_curve(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine);
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

@@ -1,16 +1,16 @@
-#include "model/case_sites.hpp"
+#include "case/case_sites.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace fibrane::model {
+namespace fibrane::casefile {
 
 BodyRef find_body(const Model& m, const io::YamlNode& name_node) {
   const std::string name = name_node.as_string();
   for (std::size_t i = 0; i < m.shells.size(); ++i)
-    if (m.shells[i].name == name) return {false, static_cast<int>(i), m.shells[i].block, 3};
+    if (m.shells[i].name() == name) return {false, static_cast<int>(i), m.shells[i].block, 3};
   for (std::size_t i = 0; i < m.beams.size(); ++i)
-    if (m.beams[i].name == name) return {true, static_cast<int>(i), m.beams[i].block, 4};
+    if (m.beams[i].name() == name) return {true, static_cast<int>(i), m.beams[i].block, 4};
   name_node.fail("the name of a shell or beam defined in this case");
 }
 
@@ -18,7 +18,7 @@ namespace {
 
 Site single(int cp) { return Site{{cp, 1.0}}; }
 
-std::vector<Site> shell_sites(const ShellBody& s, const io::YamlNode& at) {
+std::vector<Site> shell_sites(const model::ShellBody& s, const io::YamlNode& at) {
   std::vector<Site> out;
   if (auto e = at.optional("edge")) {
     const std::string edge = e->as_choice({"u0", "u1", "v0", "v1"});
@@ -35,7 +35,7 @@ std::vector<Site> shell_sites(const ShellBody& s, const io::YamlNode& at) {
     const auto& ku = s.surface.knots(0);
     const auto& kv = s.surface.knots(1);
     if (uv.size() != 2 || uv[0] < ku.front() || uv[0] > ku.back() || uv[1] < kv.front() || uv[1] > kv.back())
-      p->fail("[u, v] inside the parameter domain of shell '" + s.name + "'");
+      p->fail("[u, v] inside the parameter domain of shell '" + s.name() + "'");
     const auto basis = s.surface.basis(uv[0], uv[1]);
     Site site;
     for (std::size_t a = 0; a < basis.indices.size(); ++a)
@@ -44,13 +44,13 @@ std::vector<Site> shell_sites(const ShellBody& s, const io::YamlNode& at) {
   } else if (auto all = at.optional("all")) {
     for (int cp = 0; cp < s.num_control_points(); ++cp) out.push_back(single(cp));
   } else {
-    at.fail("one of 'edge', 'corner', 'point' or 'all' for shell '" + s.name + "'");
+    at.fail("one of 'edge', 'corner', 'point' or 'all' for shell '" + s.name() + "'");
   }
   at.reject_unknown_keys();
   return out;
 }
 
-std::vector<Site> beam_sites(const BeamBody& b, const io::YamlNode& at) {
+std::vector<Site> beam_sites(const model::BeamBody& b, const io::YamlNode& at) {
   std::vector<Site> out;
   if (auto e = at.optional("end")) {
     const std::string end = e->as_choice({"start", "end"});
@@ -58,7 +58,7 @@ std::vector<Site> beam_sites(const BeamBody& b, const io::YamlNode& at) {
   } else if (auto x = at.optional("xi")) {
     const double xi = x->as_double();
     if (xi < b.curve.knots().front() || xi > b.curve.knots().back())
-      x->fail("a parameter inside the knot range of beam '" + b.name + "'");
+      x->fail("a parameter inside the knot range of beam '" + b.name() + "'");
     const auto basis = b.curve.basis(xi, 0);
     Site site;
     for (int a = 0; a < basis.R.cols(); ++a)
@@ -67,7 +67,7 @@ std::vector<Site> beam_sites(const BeamBody& b, const io::YamlNode& at) {
   } else if (auto all = at.optional("all")) {
     for (int cp = 0; cp < b.num_control_points(); ++cp) out.push_back(single(cp));
   } else {
-    at.fail("one of 'end', 'xi' or 'all' for beam '" + b.name + "'");
+    at.fail("one of 'end', 'xi' or 'all' for beam '" + b.name() + "'");
   }
   at.reject_unknown_keys();
   return out;
@@ -103,4 +103,4 @@ int component(const BodyRef& b, const io::YamlNode& node) {
   return c[0] - 'x';
 }
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

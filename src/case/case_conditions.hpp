@@ -3,7 +3,9 @@
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
 
-namespace fibrane::model {
+namespace fibrane::casefile {
+
+using model::Model;
 
 void read_constraint(Model& m, const io::YamlNode& entry);
 void read_load(Model& m, const io::YamlNode& entry);
@@ -11,4 +13,4 @@ void read_monitor(Model& m, const io::YamlNode& entry);
 // A load function reference: the name of a function defined under 'functions' (default: ramp, f = t).
 int read_function_ref(const Model& m, const io::YamlNode& entry);
 
-}  // namespace fibrane::model
+}  // namespace fibrane::casefile

@@ -1,0 +1,41 @@
+#pragma once
+// What a run is: the model built from a case file, how to march along its path, and what to write.
+#include <memory>
+#include <string>
+
+#include "model/model.hpp"
+#include "solve/load_stepping.hpp"
+#include "solve/nonlinear.hpp"
+
+namespace fibrane::casefile {
+
+struct OutputSettings {
+  std::string directory;  // relative paths are relative to the working directory
+  bool vtk = true;
+  int vtk_every = 1;      // write VTK every n-th converged step (and always the last)
+  int samples = 4;        // sampling points per element edge for VTK
+};
+
+// The continuation methods a case can choose (steps.method).
+enum class Method { load_stepping, linear };
+
+struct RunSettings {
+  Method method = Method::load_stepping;
+  solve::StepControl steps;
+  solve::NewtonOptions newton;
+  std::string linear_solver = "auto";
+  // Stop early once |monitored value| falls below this fraction of its largest magnitude so far (e.g. the
+  // interaction energy at pull-off). Empty: run to t_end.
+  std::string stop_column;
+  double stop_fraction = 0.0;
+};
+
+struct Case {
+  std::string path;
+  std::string name;  // file name without extension
+  std::unique_ptr<model::Model> model;
+  RunSettings run;
+  OutputSettings output;
+};
+
+}  // namespace fibrane::casefile

@@ -1,0 +1,93 @@
+#pragma once
+// Everything that adds to the energy, the residual and the tangent of the model is a Contribution: shell
+// and beam bodies (Secs. 3.1, 3.2), beam-shell couplings (Sec. 5), loads and moments, inertia. The Model
+// evaluates them in one loop (Eq. 7: delta Pi_str - delta Pi_ext + delta Pi_B-S = 0, one term each).
+//
+// A contribution declares its elements (groups of coupled DOFs) once, or, if `variable()`, again after
+// every update() that changed them (the coupling, whose pairs move with the closest points). It writes its
+// element vectors and matrices through an ElementSink, which knows where its elements sit in the
+// assembler. State kept between evaluations (projections, frames) is committed by accept() after a
+// converged step and rolled back by reject() after a failed attempt.
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "solve/forward.hpp"
+
+namespace fibrane::model {
+
+class LoadFunctions;
+
+// The state every contribution evaluates at.
+struct State {
+  const Eigen::VectorXd& u;          // full displacement, constrained DOFs included (u = T q + g(t))
+  double t;                          // load parameter (quasi-time)
+  const solve::DofMap& dofs;
+  const LoadFunctions& functions;
+};
+
+// Whether an evaluation lies inside the model's domain; invalid states (a beam inside the plate, where the
+// interaction law has no value) carry a reason, and Newton treats them as a failed iteration.
+struct Status {
+  bool valid = true;
+  std::string reason;
+  static Status invalid(std::string why) { return {false, std::move(why)}; }
+  // Keeps the first reason.
+  void merge(const Status& other) {
+    if (valid && !other.valid) *this = other;
+  }
+};
+
+// Which energy a contribution's energy counts as (history.csv reports them apart).
+enum class EnergyKind { strain, interaction, external, kinetic };
+
+// Where a contribution writes: its elements are `first`, `first + 1`, ... in the assembler.
+class ElementSink {
+ public:
+  ElementSink(solve::SparseAssembler& a, int first, bool with_tangent, bool with_rate)
+      : assembler_(a), first_(first), with_tangent_(with_tangent), with_rate_(with_rate) {}
+  bool with_tangent() const { return with_tangent_; }
+  // Whether d residual / d t is being assembled (arc-length continuation): contributions whose residual
+  // depends on t explicitly (loads) add that derivative with add_rate(). The part that prescribed values
+  // cause, K dg/dt, the assembler adds by itself.
+  bool with_rate() const { return with_rate_; }
+  // Thread-safe. `k` may be null (residual only).
+  void add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k);
+  // A sub-block of an element: r / k belong to its local DOFs local[0], local[1], ...
+  void add(int element, std::span<const int> local, const Eigen::VectorXd& r, const Eigen::MatrixXd* k);
+  // Residual at arbitrary DOFs (loads), and its explicit derivative with respect to t.
+  void add_vector(std::span<const int> dofs, const Eigen::VectorXd& r);
+  void add_rate(std::span<const int> dofs, const Eigen::VectorXd& r_t);
+
+ private:
+  solve::SparseAssembler& assembler_;
+  int first_;
+  bool with_tangent_, with_rate_;
+};
+
+class Contribution {
+ public:
+  virtual ~Contribution() = default;
+  virtual std::string name() const = 0;
+  virtual EnergyKind energy_kind() const { return EnergyKind::strain; }
+  // DOF lists of the elements, in the order evaluate() numbers them.
+  virtual std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const = 0;
+  // True if the element lists may change between evaluations (then update() says when).
+  virtual bool variable() const { return false; }
+  // First step of every evaluation, before any contribution assembles: state that depends on u (the
+  // closest points of a coupling). Returns true if the element lists changed.
+  virtual bool update(const State& /*s*/) { return false; }
+  // Adds the residual (and the tangent if sink.with_tangent()) and returns the energy.
+  virtual double evaluate(const State& s, ElementSink& sink, Status& status) = 0;
+  // After a converged step at state s; after a failed attempt.
+  virtual void accept(const State& /*s*/) {}
+  virtual void reject() {}
+  // False if the tangent may be unsymmetric (follower moments, the RF1 coupling).
+  virtual bool symmetric() const { return true; }
+  // What the contribution saw in the last failed attempt that may explain it; empty if nothing.
+  virtual std::string failure_hint() const { return {}; }
+};
+
+}  // namespace fibrane::model

@@ -1,0 +1,148 @@
+// The soft-minimum part of the coupling (interaction/soft_distance.hpp, docs/interaction.md section 7):
+// which beam points switch to it, their windows on the shell, the continuity offset at the switch, the one
+// pattern element they share, and their evaluation.
+#include <algorithm>
+
+#include "model/beam_body.hpp"
+#include "model/coupling.hpp"
+#include "model/shell_body.hpp"
+
+namespace fibrane::model {
+namespace {
+
+// A soft-minimum window (interaction::soft_window_half_width) is re-centred after a step in which its
+// point's closest point moved by more than kRecentre of its half-width; when the soft element changes
+// anyway (a switch or such a re-centre), windows whose point moved by more than kRecentreAlong are
+// re-centred with it: each change of the element is a new sparsity pattern and symbolic factorisation.
+constexpr double kRecentre = 0.25, kRecentreAlong = 0.1;
+
+}  // namespace
+
+void Coupling::update_soft_windows() {
+  if (soft_requests_.empty()) return;
+  const double d_eq = law_->equilibrium_distance(1.0);
+  for (const auto& [i, centre] : soft_requests_) {
+    interaction::SoftWindow w =
+        interaction::make_soft_window(shell_.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
+                                      interaction::soft_window_cell(soft_width_, d_eq), shell_.mirrors);
+    if (soft_of_[i] < 0) {
+      soft_of_[i] = static_cast<int>(soft_.size());
+      SoftPoint sp;
+      sp.point = i;
+      sp.centre = centre;
+      sp.window = std::move(w);
+      soft_.push_back(std::move(sp));
+    } else {
+      soft_[soft_of_[i]].centre = centre;
+      soft_[soft_of_[i]].window = std::move(w);
+    }
+  }
+  soft_requests_.clear();
+  soft_changed_ = true;
+}
+
+void Coupling::calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs) {
+  // A point that has just switched to the soft minimum: its offset makes phi(D + offset) = phi(d) here,
+  // with d from the branch it was on (a local projection from its window's centre).
+  for (SoftPoint& sp : soft_) {
+    if (sp.calibrated) continue;
+    const Eigen::Vector3d r = beam_point(sp.point, u, dofs);
+    const auto branch = proximity_.project(r, sp.centre, 1.0);
+    const auto& qp = quad_[sp.point];
+    const Eigen::Matrix3Xd beam_x = beam_.current(beam_.elements[qp.element].control_points, u, dofs).topRows<3>();
+    const double D = interaction::soft_distance(beta(), beam_.curve.basis(qp.xi, 0).R.row(0), beam_x, sp.window,
+                                                shell_.current(sp.window.control_points, u, dofs), false)
+                         .distance;
+    sp.offset = branch.where == interaction::ShellProximity::Projection::Where::interior ? branch.distance - D : 0.0;
+    sp.calibrated = true;
+  }
+}
+
+void Coupling::build_soft_element() {
+  soft_beam_cps_.clear();
+  soft_shell_cps_.clear();
+  for (const SoftPoint& sp : soft_) {
+    const auto& beam_cps = beam_.elements[quad_[sp.point].element].control_points;
+    soft_beam_cps_.insert(soft_beam_cps_.end(), beam_cps.begin(), beam_cps.end());
+    soft_shell_cps_.insert(soft_shell_cps_.end(), sp.window.control_points.begin(), sp.window.control_points.end());
+  }
+  for (auto* cps : {&soft_beam_cps_, &soft_shell_cps_}) {
+    std::sort(cps->begin(), cps->end());
+    cps->erase(std::unique(cps->begin(), cps->end()), cps->end());
+  }
+  auto index = [](const std::vector<int>& sorted, int cp) {
+    return static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), cp) - sorted.begin());
+  };
+  const int beam_size = 4 * static_cast<int>(soft_beam_cps_.size());
+  for (SoftPoint& sp : soft_) {
+    sp.to_union.clear();
+    for (int cp : beam_.elements[quad_[sp.point].element].control_points)
+      for (int c = 0; c < 4; ++c) sp.to_union.push_back(4 * index(soft_beam_cps_, cp) + c);
+    for (int cp : sp.window.control_points)
+      for (int c = 0; c < 3; ++c) sp.to_union.push_back(beam_size + 3 * index(soft_shell_cps_, cp) + c);
+  }
+}
+
+void Coupling::request_soft_switches() {
+  if (soft_width_ <= 0) return;
+  std::vector<std::pair<int, Eigen::Vector2d>> along;
+  for (std::size_t i = 0; i < quad_.size(); ++i) {
+    const auto& p = projection_[i];
+    if (p.where != interaction::ShellProximity::Projection::Where::interior) continue;
+    const Eigen::Vector2d theta(p.u, p.v);
+    if (soft_of_[i] < 0) {
+      if (p.relative_curvature < soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
+    } else {
+      const SoftPoint& sp = soft_[soft_of_[i]];
+      const double moved = ((theta - sp.centre).array().abs() / sp.window.half_extent.array()).maxCoeff();
+      if (moved > kRecentre) soft_requests_.emplace_back(static_cast<int>(i), theta);
+      else if (moved > kRecentreAlong) along.emplace_back(static_cast<int>(i), theta);
+    }
+  }
+  if (!soft_requests_.empty()) soft_requests_.insert(soft_requests_.end(), along.begin(), along.end());
+}
+
+double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, bool& bad) {
+  // Each soft point adds the sub-block of its support to the one soft element (after the pairs).
+  const int n_soft = static_cast<int>(soft_.size());
+  if (n_soft == 0) return 0.0;
+  const Eigen::VectorXd& u = state.u;
+  const solve::DofMap& dofs = state.dofs;
+  const bool with_tangent = sink.with_tangent();
+  const int soft_element = static_cast<int>(pairs_.size());
+  const double beta = this->beta();
+  double energy = 0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
+  for (int k = 0; k < n_soft; ++k) {
+    const SoftPoint& sp = soft_[k];
+    const auto& qp = quad_[sp.point];
+    const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
+    const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
+    const Eigen::Matrix3Xd window_x = shell_.current(sp.window.control_points, u, dofs);
+    const Eigen::RowVectorXd basis = beam_.curve.basis(qp.xi, 0).R.row(0);
+    Eigen::VectorXd r;
+    Eigen::MatrixXd kt;
+    std::vector<int> support;
+    try {
+      double e = 0;
+      Eigen::Vector3d f;
+      const double D = interaction::add_soft_rf2_point(*law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
+                                                       qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
+      energy += e;
+      auto& out = points_[sp.point];
+      out.active = true;
+      out.soft = true;
+      out.distance = D;
+      out.energy_density = e / qp.weight;
+      out.force = -f;
+      out.position = beam_x * basis.transpose();
+      for (int& i : support) i = sp.to_union[i];
+      sink.add(soft_element, support, r, with_tangent ? &kt : nullptr);
+    } catch (const std::domain_error&) {
+      bad = true;
+    }
+  }
+  return energy;
+}
+
+}  // namespace fibrane::model

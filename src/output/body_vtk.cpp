@@ -1,0 +1,127 @@
+#include "output/body_vtk.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spline/quadrature.hpp"
+
+namespace fibrane::output {
+
+using model::BeamBody;
+using model::Coupling;
+using model::Model;
+using model::ShellBody;
+
+namespace {
+
+void push3(std::vector<double>& v, const Eigen::Vector3d& x) { v.insert(v.end(), {x[0], x[1], x[2]}); }
+
+}  // namespace
+
+io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
+  io::VtuMesh mesh;
+  // N_local, M_local: physical section forces per current length in the frame e1 = g1/|g1|, e2 = n x e1
+  // (11, 22, 12); N_ab, M_ab: the contravariant components N^ab, M^ab of Eq. (29) (11, 22, 12).
+  io::VtuMesh::Field disp{"displacement", 3, {}}, nf{"N_local", 3, {}}, mf{"M_local", 3, {}},
+      nc{"N_contravariant", 3, {}}, mc{"M_contravariant", 3, {}};
+  const auto& u = m.displacement();
+  for (std::size_t e = 0; e < s.elements.size(); ++e) {
+    const auto& el = s.elements[e];
+    const auto& cps = s.element_control_points[e];
+    const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, m.dofs);
+    const int base = static_cast<int>(mesh.points.size());
+    for (int j = 0; j <= samples; ++j)
+      for (int i = 0; i <= samples; ++i) {
+        const double pu = el.u0 + (el.u1 - el.u0) * i / samples, pv = el.v0 + (el.v1 - el.v0) * j / samples;
+        const auto b = s.surface.basis_in(el.span_u, el.span_v, pu, pv);
+        const Eigen::Vector3d xr = X * b.R.row(0).transpose(), xc = x * b.R.row(0).transpose();
+        mesh.points.push_back(xc);
+        push3(disp.values, xc - xr);
+        const auto f = shell::section_forces(s.section, b.R, X, x);
+        push3(nf.values, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
+        push3(mf.values, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
+        push3(nc.values, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
+        push3(mc.values, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
+      }
+    const int n = samples + 1;
+    for (int j = 0; j < samples; ++j)
+      for (int i = 0; i < samples; ++i) {
+        const int a = base + j * n + i;
+        mesh.add_cell(io::vtk_cell::quad, {a, a + 1, a + n + 1, a + n});
+      }
+  }
+  mesh.point_data = {std::move(disp), std::move(nf), std::move(mf), std::move(nc), std::move(mc)};
+  return mesh;
+}
+
+io::VtuMesh beam_vtu(const Model& m, const BeamBody& b, int samples) {
+  io::VtuMesh mesh;
+  io::VtuMesh::Field disp{"displacement", 3, {}}, twist{"twist", 1, {}}, t{"tangent", 3, {}},
+      a2{"director2", 3, {}}, a3{"director3", 3, {}}, nf{"N", 1, {}}, mf{"M", 3, {}};
+  const auto& u = m.displacement();
+  const auto gauss = spline::gauss_legendre(b.gauss());
+  for (std::size_t e = 0; e < b.elements.size(); ++e) {
+    const auto& el = b.elements[e];
+    const beam::BeamDofs q = b.current(el.control_points, u, m.dofs);
+    // Section quantities are exact at the quadrature points, where the frame states live; each sample
+    // shows the value of the nearest quadrature point. Positions, displacement and twist are exact.
+    std::vector<beam::BeamPointOutput> at_gauss;
+    std::vector<double> gauss_xi;
+    for (std::size_t g = 0; g < gauss.points.size(); ++g) {
+      const double xi = el.xi0 + 0.5 * (gauss.points[g] + 1.0) * (el.xi1 - el.xi0);
+      gauss_xi.push_back(xi);
+      at_gauss.push_back(beam::evaluate_point(b.section, b.curve.basis(xi, 2).R.topRows(3), q, b.states[e][g]));
+    }
+    const int base = static_cast<int>(mesh.points.size());
+    for (int i = 0; i <= samples; ++i) {
+      // Sample slightly inside the element so the basis belongs to this element's span.
+      const double s = std::clamp(static_cast<double>(i) / samples, 1e-12, 1.0 - 1e-12);
+      const double xi = el.xi0 + (el.xi1 - el.xi0) * s;
+      const auto basis = b.curve.basis(xi, 0);
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for (int a = 0; a < basis.R.cols(); ++a) r += basis.R(0, a) * q.col(a).head<3>();
+      std::size_t near = 0;
+      for (std::size_t g = 1; g < gauss_xi.size(); ++g)
+        if (std::abs(gauss_xi[g] - xi) < std::abs(gauss_xi[near] - xi)) near = g;
+      const auto& out = at_gauss[near];
+      mesh.points.push_back(r);
+      push3(disp.values, r - b.curve.point(xi));
+      twist.values.push_back(q.row(3).dot(basis.R.row(0)));
+      push3(t.values, out.t);
+      push3(a2.values, out.a2);
+      push3(a3.values, out.a3);
+      nf.values.push_back(out.N);
+      push3(mf.values, {out.M[0], out.M[1], out.M[2]});
+    }
+    mesh.connectivity.reserve(mesh.connectivity.size() + samples + 1);
+    for (int i = 0; i <= samples; ++i) mesh.connectivity.push_back(base + i);
+    mesh.offsets.push_back(static_cast<int>(mesh.connectivity.size()));
+    mesh.types.push_back(io::vtk_cell::poly_line);
+  }
+  mesh.point_data = {std::move(disp), std::move(twist), std::move(t), std::move(a2), std::move(a3),
+                     std::move(nf), std::move(mf)};
+  return mesh;
+}
+
+io::VtuMesh coupling_vtu(const Coupling& c) {
+  io::VtuMesh mesh;
+  io::VtuMesh::Field xi{"xi", 1, {}}, s{"s", 1, {}}, d{"distance", 1, {}}, cos{"cos_alpha", 1, {}},
+      f{"force", 3, {}}, fm{"force_magnitude", 1, {}}, soft{"soft_minimum", 1, {}};
+  for (const auto& p : c.points()) {
+    if (!p.active) continue;
+    mesh.add_cell(io::vtk_cell::vertex, {static_cast<int>(mesh.points.size())});
+    mesh.points.push_back(p.position);
+    xi.values.push_back(p.xi);
+    s.values.push_back(p.s);
+    d.values.push_back(p.distance);
+    cos.values.push_back(p.cos_alpha);
+    push3(f.values, p.force);
+    fm.values.push_back(p.force.norm());
+    soft.values.push_back(p.soft ? 1 : 0);
+  }
+  mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm),
+                     std::move(soft)};
+  return mesh;
+}
+
+}  // namespace fibrane::output

@@ -1,0 +1,15 @@
+#pragma once
+// Sampled geometry and fields of the model's bodies and interactions for ParaView.
+#include "io/vtk.hpp"
+#include "model/model.hpp"
+
+namespace fibrane::output {
+
+// `samples` points per element edge; shells: displacement and section forces/moments (local frame and
+// contravariant); beams: displacement, twist, directors, section force and moments.
+io::VtuMesh shell_vtu(const model::Model& m, const model::ShellBody& s, int samples);
+io::VtuMesh beam_vtu(const model::Model& m, const model::BeamBody& b, int samples);
+// The beam quadrature points of an interaction with distance, cos(alpha) and the force per length.
+io::VtuMesh coupling_vtu(const model::Coupling& c);
+
+}  // namespace fibrane::output

@@ -1,0 +1,118 @@
+#include "output/run_output.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <fmt/format.h>
+
+#include "io/atomic_file.hpp"
+#include "io/json.hpp"
+#include "output/body_vtk.hpp"
+
+namespace fibrane::output {
+
+std::vector<std::string> history_columns(const model::Model& m) {
+  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual"};
+  for (const auto& o : model::observables(m)) columns.push_back(o.name);
+  return columns;
+}
+
+namespace {
+
+// The names of the per-body and per-interaction files.
+std::vector<std::string> output_names(const model::Model& m) {
+  std::vector<std::string> names;
+  for (const auto& s : m.shells) names.push_back(s.name());
+  for (const auto& b : m.beams) names.push_back(b.name());
+  for (const auto& k : m.couplings) names.push_back(k.name());
+  return names;
+}
+
+// A run into a directory that holds an earlier run's output removes that run's per-step files and summary
+// first: otherwise a longer earlier run leaves steps beyond this run's end beside it (ParaView would not
+// show them, but a script reading the folder would), and an interrupted run would keep a summary saying
+// "completed". Only names this case writes (<name>_<6 digits>.vtu / .csv) are touched.
+void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m) {
+  namespace fs = std::filesystem;
+  const std::vector<std::string> names = output_names(m);
+  auto is_step_file = [&](const fs::path& f, const std::string& ext) {
+    const std::string stem = f.stem().string();
+    if (f.extension() != ext || stem.size() < 8 || stem[stem.size() - 7] != '_') return false;
+    const std::string digits = stem.substr(stem.size() - 6);
+    if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
+    return std::find(names.begin(), names.end(), stem.substr(0, stem.size() - 7)) != names.end();
+  };
+  std::error_code ec;
+  fs::remove(dir / "summary.json", ec);
+  for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
+    if (!fs::is_directory(dir / sub)) continue;
+    for (const auto& entry : fs::directory_iterator(dir / sub))
+      if (entry.is_regular_file() && is_step_file(entry.path(), ext)) fs::remove(entry.path(), ec);
+  }
+}
+
+}  // namespace
+
+RunOutput::RunOutput(const casefile::Case& c, std::string directory)
+    : case_(c), dir_(std::move(directory)), observables_(model::observables(*c.model)) {
+  namespace fs = std::filesystem;
+  remove_earlier_run(dir_, *c.model);
+  fs::create_directories(fs::path(dir_) / "vtk");
+  if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
+  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(), history_columns(*c.model));
+  if (c.output.vtk)
+    for (const auto& name : output_names(*c.model)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
+}
+
+void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {
+  std::vector<double> row{static_cast<double>(r.step), r.t, m.functions(0, r.t), static_cast<double>(r.iterations),
+                          r.residual_norm};
+  for (const auto& o : observables_) row.push_back(o.value(m));
+  history_->row(row);
+  for (const auto& c : m.couplings) write_coupling_csv(c, r.step);
+}
+
+void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
+  if (!case_.output.vtk) return;
+  std::size_t k = 0;
+  auto write = [&](const std::string& name, const io::VtuMesh& mesh) {
+    const std::string rel = fmt::format("vtk/{}_{:06d}.vtu", name, r.step);
+    io::write_vtu((std::filesystem::path(dir_) / rel).string(), mesh);
+    series_[k++].add(r.t, rel);
+  };
+  for (const auto& s : m.shells) write(s.name(), shell_vtu(m, s, case_.output.samples));
+  for (const auto& b : m.beams) write(b.name(), beam_vtu(m, b, case_.output.samples));
+  for (const auto& c : m.couplings) write(c.name(), coupling_vtu(c));
+}
+
+void RunOutput::write_coupling_csv(const model::Coupling& c, int step) const {
+  std::string text = "xi,s,active,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density,soft_minimum\n";
+  for (const auto& p : c.points())
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
+                        p.active ? 1 : 0, io::format_double(p.distance), io::format_double(p.cos_alpha),
+                        io::format_double(p.force.x()), io::format_double(p.force.y()),
+                        io::format_double(p.force.z()), io::format_double(p.force.norm()),
+                        io::format_double(p.energy_density), p.soft ? 1 : 0);
+  io::write_file_atomic(
+      (std::filesystem::path(dir_) / "interaction" / fmt::format("{}_{:06d}.csv", c.name(), step)).string(), text);
+}
+
+void RunOutput::write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
+                              const std::string& solver_name) {
+  io::JsonValue j = io::JsonValue::object();
+  j.set("case", case_.path).set("title", m.title).set("fibrane_version", FIBRANE_VERSION);
+  j.set("dofs", m.dofs.size()).set("free_dofs", m.constraints.num_free()).set("elements", m.num_elements());
+  j.set("completed", result.completed()).set("outcome", solve::outcome_name(result.outcome));
+  j.set("message", result.message);
+  j.set("t_reached", result.t_reached).set("steps", result.steps).set("newton_iterations", result.total_iterations);
+  j.set("wall_seconds", wall_seconds).set("linear_solver", solver_name);
+  io::JsonValue monitors = io::JsonValue::object();
+  for (const auto& mon : m.monitors) monitors.set(mon.name, m.monitor_value(mon));
+  j.set("final_monitors", std::move(monitors));
+  io::JsonValue soft = io::JsonValue::object();
+  for (const auto& c : m.couplings)
+    if (c.soft_points() > 0) soft.set(c.name(), c.soft_points());
+  j.set("soft_minimum_points", std::move(soft));
+  io::write_file_atomic((std::filesystem::path(dir_) / "summary.json").string(), j.dump(2) + "\n");
+}
+
+}  // namespace fibrane::output

@@ -1,0 +1,44 @@
+#pragma once
+// Everything a run leaves in its output directory: history.csv (one row per converged step), the
+// interaction data along each beam per step (interaction/<name>_<step>.csv), a VTK time series per body
+// (<body>.pvd + vtk/<body>_<step>.vtu) and summary.json. Every file is complete on disk after each step
+// (rows are appended whole, VTK and JSON files are renamed into place).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "case/case.hpp"
+#include "io/csv.hpp"
+#include "io/vtk.hpp"
+#include "model/observables.hpp"
+#include "solve/continuation.hpp"
+
+namespace fibrane::output {
+
+// Column names of history.csv: step, t, load factor, iterations, residual, then the model's observables
+// (model/observables.hpp).
+std::vector<std::string> history_columns(const model::Model& m);
+
+class RunOutput {
+ public:
+  // Removes an earlier run's step files and summary from `directory` (see run_output.cpp), creates it.
+  RunOutput(const casefile::Case& c, std::string directory);
+  // Writes the state of the model's last evaluate() as step `report.step`: a history row and the
+  // interaction CSVs.
+  void write_history(const model::Model& m, const solve::StepReport& report);
+  void write_vtk(const model::Model& m, const solve::StepReport& report);
+  bool vtk_due(int step) const { return case_.output.vtk && step % case_.output.vtk_every == 0; }
+  void write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
+                     const std::string& solver_name);
+  const std::string& directory() const { return dir_; }
+
+ private:
+  void write_coupling_csv(const model::Coupling& c, int step) const;
+  const casefile::Case& case_;
+  std::string dir_;
+  std::vector<model::Observable> observables_;
+  std::unique_ptr<io::CsvWriter> history_;
+  std::vector<io::PvdCollection> series_;
+};
+
+}  // namespace fibrane::output

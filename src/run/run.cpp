@@ -1,0 +1,96 @@
+#include "run/run.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <sstream>
+
+#include "common/format.hpp"
+#include "io/progress.hpp"
+#include "model/observables.hpp"
+#include "output/run_output.hpp"
+#include "solve/linear_solver.hpp"
+#include "solve/linear_step.hpp"
+#include "solve/load_stepping.hpp"
+
+namespace fibrane::run {
+namespace {
+
+std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& s, bool verbose) {
+  solve::NewtonOptions newton = s.newton;
+  newton.verbose = verbose;
+  switch (s.method) {
+    case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
+    case casefile::Method::load_stepping: break;
+  }
+  return std::make_unique<solve::LoadStepping>(s.steps, newton);
+}
+
+// The case's stop rule: |quantity| below a fraction of its largest magnitude so far (e.g. the adhesion
+// energy at pull-off). The quantity is read from the model, like the history column of the same name.
+class StopRule {
+ public:
+  StopRule(const casefile::RunSettings& s, const model::Model& m) : fraction_(s.stop_fraction) {
+    for (const auto& o : model::observables(m))
+      if (o.name == s.stop_column) quantity_ = o;
+    if (quantity_.value) peak_ = std::abs(quantity_.value(m));
+  }
+  // True when the run should stop after the model's current state.
+  bool reached(const model::Model& m) {
+    if (!quantity_.value) return false;
+    const double v = std::abs(quantity_.value(m));
+    peak_ = std::max(peak_, v);
+    return v < fraction_ * peak_;
+  }
+  std::string message() const {
+    return "stopped: " + quantity_.name + " fell below " + format_number(fraction_) + " of its peak";
+  }
+
+ private:
+  model::Observable quantity_;
+  double fraction_, peak_ = 0;
+};
+
+}  // namespace
+
+RunSummary run_case(casefile::Case& c, const RunOptions& options) {
+  if (options.threads > 0) omp_set_num_threads(options.threads);
+  const auto start = std::chrono::steady_clock::now();
+  model::Model& m = *c.model;
+  RunSummary summary;
+  summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
+  output::RunOutput out(c, summary.directory);
+  auto solver = solve::make_linear_solver(c.run.linear_solver, m.symmetric());
+  auto method = make_method(c.run, options.newton_log);
+
+  Eigen::VectorXd q = m.initial_unknowns();
+  m.evaluate(q, c.run.steps.t_start, false);
+  solve::StepReport initial;
+  initial.t = c.run.steps.t_start;
+  initial.residual_norm = m.residual().norm();
+  out.write_history(m, initial);
+  out.write_vtk(m, initial);
+  StopRule stop_rule(c.run, m);
+  std::ostringstream quiet_sink;
+  io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
+                                            : io::ProgressLine(c.run.steps.t_end);
+  bool stopped = false;
+  const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
+  summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+    out.write_history(m, r);
+    stopped = stop_rule.reached(m);
+    if (r.t >= t_last || stopped || out.vtk_due(r.step)) out.write_vtk(m, r);
+    progress.update(r.step, r.t, r.iterations, r.residual_norm);
+    return !stopped;
+  });
+  if (stopped) summary.result.message = stop_rule.message();
+  progress.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
+  return summary;
+}
+
+}  // namespace fibrane::run
