@@ -152,6 +152,8 @@ std::string zlib_blocks(const void* data, std::size_t size, std::size_t block_si
     uLongf compressed = compressBound(static_cast<uLong>(length));
     const std::size_t at = payload.size();
     payload.resize(at + compressed);
+    // zlib's default level: on fibrane's Float64 output about 5 % smaller than Z_BEST_SPEED, at about
+    // 1.3 times its time.
     const int status = compress2(reinterpret_cast<Bytef*>(payload.data() + at), &compressed, bytes + begin,
                                  static_cast<uLong>(length), Z_DEFAULT_COMPRESSION);
     if (status != Z_OK) throw std::runtime_error(fmt::format("zlib compress2 failed with status {}", status));
