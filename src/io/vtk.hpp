@@ -42,6 +42,7 @@ enum class VtuEncoding {
   ascii,       // inline decimal text, for reading a file by eye (debugging, tests)
 };
 
+// An unstructured grid to write: points, cells in VTK layout, and Float64 point and cell fields.
 struct VtuMesh {
   std::vector<Eigen::Vector3d> points;
   // Cells in VTK layout: cell c uses connectivity[offsets[c-1] .. offsets[c]) (offsets[-1] = 0),
