@@ -1,7 +1,9 @@
 #pragma once
 // VTK XML UnstructuredGrid (.vtu) writer and ParaView collection (.pvd) for time series.
-// Arrays are written inline as base64 binary (Float64 values, Int64 connectivity/offsets, UInt8 types)
-// with a UInt64 byte-count header, little-endian: exact values and about a third of the ASCII size.
+// Arrays are Float64 (points, fields), Int64 (connectivity, offsets) and UInt8 (cell types), little-endian
+// with UInt64 headers, in one of three encodings (VtuEncoding): zlib-compressed raw appended binary (the
+// default), inline base64, or ASCII. All three are exact: binary keeps the bits, ASCII uses the shortest
+// decimal that reads back to the same double.
 #include <Eigen/Core>
 #include <cstdint>
 #include <initializer_list>
@@ -17,8 +19,30 @@ inline constexpr std::uint8_t line = 3;
 inline constexpr std::uint8_t poly_line = 4;
 inline constexpr std::uint8_t triangle = 5;
 inline constexpr std::uint8_t quad = 9;
+// Bezier cells. Points in VTK's higher-order order (vtkHigherOrderCurve / vtkHigherOrderQuadrilateral::
+// PointIndexFromIJK): a curve lists its two end points, then the interior points; a quadrilateral its
+// 4 corners, its edges, its interior (see io/bezier_vtu.hpp). Their degrees come from the cell field
+// vtk_bezier::degrees, their weights from the point field vtk_bezier::weights.
+inline constexpr std::uint8_t bezier_curve = 75;
+inline constexpr std::uint8_t bezier_quadrilateral = 77;
 }  // namespace vtk_cell
 
+// Names of the fields VTK reads as the degrees and rational weights of Bezier cells. The writer marks
+// a point field named `weights` (1 component) as the RationalWeights attribute and a cell field named
+// `degrees` (3 components) as the HigherOrderDegrees attribute, which is how VTK finds them.
+namespace vtk_bezier {
+inline constexpr const char* weights = "RationalWeights";
+inline constexpr const char* degrees = "HigherOrderDegrees";
+}  // namespace vtk_bezier
+
+// How write_vtu encodes the data arrays.
+enum class VtuEncoding {
+  compressed,  // <AppendedData encoding="raw">, each array zlib-compressed in 32 KiB blocks (smallest)
+  base64,      // inline base64 of the raw bytes, uncompressed
+  ascii,       // inline decimal text, for reading a file by eye (debugging, tests)
+};
+
+// An unstructured grid to write: points, cells in VTK layout, and Float64 point and cell fields.
 struct VtuMesh {
   std::vector<Eigen::Vector3d> points;
   // Cells in VTK layout: cell c uses connectivity[offsets[c-1] .. offsets[c]) (offsets[-1] = 0),
@@ -37,11 +61,20 @@ struct VtuMesh {
 };
 
 // Throws std::invalid_argument if the mesh is inconsistent (offset/type counts, indices out of range,
-// field sizes); the error names the offending field.
+// field sizes, the Bezier degree and weight fields' components, a Bezier cell whose point count does not
+// match its degrees); the error names the offending field or cell.
 void validate(const VtuMesh& mesh);
 
-// Writes `path` atomically (see atomic_file.hpp).
-void write_vtu(const std::string& path, const VtuMesh& mesh);
+// The complete .vtu file content. Validates the mesh first.
+std::string vtu_document(const VtuMesh& mesh, VtuEncoding encoding = VtuEncoding::compressed);
+
+// Writes `path` atomically (see atomic_file.hpp): readers see the previous file or the complete new one.
+void write_vtu(const std::string& path, const VtuMesh& mesh, VtuEncoding encoding = VtuEncoding::compressed);
+
+// VTK's zlib block stream of one array (vtkZLibDataCompressor with a UInt64 header): the header
+// [number of blocks, block size, size of the last block if partial (else 0), compressed size of each
+// block] followed by the compressed blocks. Every block but the last holds `block_size` raw bytes.
+std::string zlib_blocks(const void* data, std::size_t size, std::size_t block_size = 32768);
 
 // Standard base64 (RFC 4648) with padding.
 std::string base64_encode(const void* data, std::size_t size);

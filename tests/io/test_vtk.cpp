@@ -1,10 +1,13 @@
 // The .vtu writer is checked against VTK itself: python3-vtk9's vtkXMLUnstructuredGridReader reads the
-// file and prints every coordinate, cell and field value with repr (shortest round-trip), which we
-// compare bitwise with what was written. The .pvd is checked with Python's XML parser.
+// file (in each encoding) and prints every coordinate, cell and field value with repr (shortest
+// round-trip), which we compare bitwise with what was written. The .pvd is checked with Python's XML
+// parser.
 #include <gtest/gtest.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstring>
+#include <random>
 #include <sstream>
 
 #include "io/scratch_dir.hpp"
@@ -33,6 +36,28 @@ VtuMesh sample_mesh() {
   }
   mesh.point_data = {displacement, gap};
   mesh.cell_data = {{"cell_id", 1, {0, 1, 2, 3}}, {"stress", 2, {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 1e100}}};
+  return mesh;
+}
+
+// A sampled shell-like output: an n x n grid of points on a wavy sheet with quads, a displacement and a
+// section-force-like field. n = 64 makes every array span several 32 KiB compression blocks, and the
+// 1-component field exactly one full block (4096 doubles).
+VtuMesh sampled_mesh(int n) {
+  VtuMesh mesh;
+  std::mt19937 rng(42);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  VtuMesh::Field displacement{"displacement", 3, {}}, forces{"N_local", 3, {}}, gap{"gap", 1, {}};
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const double x = i / (n - 1.0), y = j / (n - 1.0);
+      mesh.points.emplace_back(x, y, 0.1 * std::sin(6 * x) * std::cos(5 * y));
+      displacement.values.insert(displacement.values.end(), {1e-3 * x * y, -2e-3 * x, 0.05 * std::sin(3 * y)});
+      forces.values.insert(forces.values.end(), {noise(rng), noise(rng), 1e5 * noise(rng)});
+      gap.values.push_back(std::exp(-x - y));
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) mesh.add_cell(vtk_cell::quad, {j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i});
+  mesh.point_data = {displacement, forces, gap};
   return mesh;
 }
 
@@ -71,11 +96,9 @@ void expect_bitwise(const std::vector<double>& got, const std::vector<double>& w
   for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(same_bits(got[i], want[i])) << what << "[" << i << "]";
 }
 
-TEST(Vtu, VtkReadsBackPointsCellsAndFieldsExactly) {
-  if (!testing::python_has("vtk")) GTEST_SKIP() << "/usr/bin/python3 cannot import vtk";
-  testing::ScratchDir dir;
-  const VtuMesh mesh = sample_mesh();
-  write_vtu(dir.file("mesh.vtu"), mesh);
+// Writes `mesh`, has VTK read it and compares everything VTK reports bitwise with the mesh.
+void expect_vtk_reads_back(const testing::ScratchDir& dir, const VtuMesh& mesh, VtuEncoding encoding) {
+  write_vtu(dir.file("mesh.vtu"), mesh, encoding);
   testing::write_text(dir.file("read.py"), kReadVtu);
   const std::string command = "/usr/bin/python3 " + dir.file("read.py") + " " + dir.file("mesh.vtu") + " " +
                               dir.file("dump.txt");
@@ -124,6 +147,92 @@ TEST(Vtu, VtkReadsBackPointsCellsAndFieldsExactly) {
   EXPECT_EQ(point, mesh.points.size());
   EXPECT_EQ(cell, mesh.types.size());
   EXPECT_EQ(fields_seen.size(), mesh.point_data.size() + mesh.cell_data.size());
+}
+
+class VtuEncodings : public ::testing::TestWithParam<VtuEncoding> {};
+
+TEST_P(VtuEncodings, VtkReadsBackPointsCellsAndFieldsExactly) {
+  if (!testing::python_has("vtk")) GTEST_SKIP() << "/usr/bin/python3 cannot import vtk";
+  testing::ScratchDir dir;
+  expect_vtk_reads_back(dir, sample_mesh(), GetParam());
+}
+
+TEST_P(VtuEncodings, VtkReadsBackASampledMeshExactly) {
+  if (!testing::python_has("vtk")) GTEST_SKIP() << "/usr/bin/python3 cannot import vtk";
+  testing::ScratchDir dir;
+  expect_vtk_reads_back(dir, sampled_mesh(64), GetParam());
+}
+
+TEST_P(VtuEncodings, VtkReadsAnEmptyMesh) {
+  if (!testing::python_has("vtk")) GTEST_SKIP() << "/usr/bin/python3 cannot import vtk";
+  testing::ScratchDir dir;
+  expect_vtk_reads_back(dir, VtuMesh{}, GetParam());
+}
+
+INSTANTIATE_TEST_SUITE_P(All, VtuEncodings,
+                         ::testing::Values(VtuEncoding::compressed, VtuEncoding::base64, VtuEncoding::ascii),
+                         [](const auto& info) {
+                           return std::string(info.param == VtuEncoding::compressed ? "compressed"
+                                              : info.param == VtuEncoding::base64   ? "base64"
+                                                                                    : "ascii");
+                         });
+
+TEST(Vtu, CompressedIsSmallerThanBase64AndAscii) {
+  const VtuMesh mesh = sampled_mesh(64);
+  const std::size_t compressed = vtu_document(mesh, VtuEncoding::compressed).size();
+  const std::size_t base64 = vtu_document(mesh, VtuEncoding::base64).size();
+  const std::size_t ascii = vtu_document(mesh, VtuEncoding::ascii).size();
+  RecordProperty("bytes_compressed", std::to_string(compressed));
+  RecordProperty("bytes_base64", std::to_string(base64));
+  RecordProperty("bytes_ascii", std::to_string(ascii));
+  EXPECT_LT(compressed, base64);
+  EXPECT_LT(base64, ascii);
+}
+
+// The block stream follows VTK's layout: [blocks, block size, partial last block size or 0, compressed
+// sizes...], then the blocks, each of which zlib inflates back to its slice of the input.
+TEST(Vtu, ZlibBlocksHaveVtksHeaderAndInflateBack) {
+  for (const std::size_t size : {std::size_t{0}, std::size_t{100}, std::size_t{65536}, std::size_t{100000}}) {
+    std::string raw(size, '\0');
+    for (std::size_t i = 0; i < size; ++i) raw[i] = static_cast<char>((i * i / 7) % 251);
+    const std::string stream = zlib_blocks(raw.data(), raw.size(), 32768);
+    const std::size_t blocks = (size + 32767) / 32768;
+    std::vector<std::uint64_t> header(3 + blocks);
+    ASSERT_GE(stream.size(), header.size() * 8);
+    std::memcpy(header.data(), stream.data(), header.size() * 8);
+    EXPECT_EQ(header[0], blocks);
+    EXPECT_EQ(header[1], 32768u);
+    EXPECT_EQ(header[2], size % 32768);
+    std::size_t at = header.size() * 8;
+    std::string inflated;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      std::string block(32768, '\0');
+      uLongf length = block.size();
+      ASSERT_EQ(uncompress(reinterpret_cast<Bytef*>(block.data()), &length,
+                           reinterpret_cast<const Bytef*>(stream.data() + at), header[3 + b]), Z_OK);
+      inflated.append(block.data(), length);
+      at += header[3 + b];
+    }
+    EXPECT_EQ(at, stream.size());
+    EXPECT_EQ(inflated, raw) << size;
+  }
+}
+
+TEST(Vtu, BezierDegreesAndWeightsAreChecked) {
+  VtuMesh mesh;
+  for (int i = 0; i < 9; ++i) mesh.points.emplace_back(i % 3, i / 3, 0);
+  mesh.add_cell(vtk_cell::bezier_quadrilateral, {0, 2, 8, 6, 1, 5, 7, 3, 4});
+  mesh.point_data = {{vtk_bezier::weights, 1, std::vector<double>(9, 1.0)}};
+  mesh.cell_data = {{vtk_bezier::degrees, 3, {2, 2, 0}}};
+  EXPECT_NO_THROW(validate(mesh));
+  EXPECT_NE(vtu_document(mesh).find("<PointData RationalWeights=\"RationalWeights\">"), std::string::npos);
+  EXPECT_NE(vtu_document(mesh).find("<CellData HigherOrderDegrees=\"HigherOrderDegrees\">"), std::string::npos);
+  VtuMesh wrong_degree = mesh;
+  wrong_degree.cell_data[0].values = {3, 2, 0};  // needs 12 points
+  EXPECT_THROW(validate(wrong_degree), std::invalid_argument);
+  VtuMesh wrong_components = mesh;
+  wrong_components.cell_data[0] = {vtk_bezier::degrees, 1, {2}};
+  EXPECT_THROW(validate(wrong_components), std::invalid_argument);
 }
 
 TEST(Vtu, InconsistentMeshesAreRejected) {
