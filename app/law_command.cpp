@@ -6,8 +6,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "case/case_laws.hpp"
 #include "commands.hpp"
 #include "common/error.hpp"
+#include "io/yaml_input.hpp"
+#include "laws/law_registry.hpp"
 #include "laws/disk_plate.hpp"
 #include "laws/disk_sphere.hpp"
 #include "laws/lennard_jones.hpp"
@@ -18,6 +21,7 @@ namespace {
 struct LawOptions {
   double m = 6, radius = 1, thickness = 1, distance = 0, cosine = 1, epsilon = 1, sigma = 1;
   double density_beam = 1, density_shell = 1, strength = 1, sphere_radius = 1;
+  std::string law;  // a YAML flow map {model: NAME, ...} of the law registry
 };
 
 std::string number(double x) {
@@ -26,8 +30,8 @@ std::string number(double x) {
   return buffer;
 }
 
-void print_json(const std::string& law, const laws::LawValue& v) {
-  std::cout << "{\"law\": \"" << law << "\", \"value\": " << number(v.value)
+void print_json(const std::string& law, const laws::LawValue& v, const std::string& extra = "") {
+  std::cout << "{\"law\": \"" << law << "\"" << extra << ", \"value\": " << number(v.value)
             << ", \"d_distance\": " << number(v.d_d) << ", \"d_cos\": " << number(v.d_c)
             << ", \"d2_distance\": " << number(v.d_dd) << ", \"d2_cos\": " << number(v.d_cc)
             << ", \"d2_distance_cos\": " << number(v.d_dc)
@@ -55,6 +59,21 @@ void run(F evaluate) {
   } catch (const std::domain_error& e) {
     throw InputError(e.what());
   }
+}
+
+// Prints an interaction law's value and derivatives at (--distance, --cos), and its equilibrium distance
+// where it has one.
+void evaluate_registry_law(const laws::InteractionLaw& law, const LawOptions& o) {
+  require(o.cosine >= 0 && o.cosine <= 1, "--cos must lie in [0, 1]");
+  const double contact = law.contact_distance(o.cosine);
+  require(std::isfinite(o.distance) && o.distance > contact,
+          "--distance must exceed cos * radius + thickness / 2 = " + number(contact) + " (positive gap)");
+  std::string extra;
+  try {
+    extra = ", \"equilibrium_distance\": " + number(law.equilibrium_distance(o.cosine));
+  } catch (const std::runtime_error&) {  // a purely attractive or repulsive law has none
+  }
+  run([&] { print_json(law.name(), law.evaluate(o.distance, o.cosine), extra); });
 }
 
 }  // namespace
@@ -99,12 +118,27 @@ void register_law_command(CLI::App& app) {
   lj->add_option("--density-shell", o->density_shell, "Shell particle density (default 1)");
   lj->add_option("--strength", o->strength, "Interaction-strength factor (default 1)");
   lj->callback([o]() {
-    const laws::LennardJonesDiskPlate law{o->epsilon, o->sigma, o->radius, o->thickness,
-                                          o->density_beam, o->density_shell, o->strength};
-    law.validate();
-    check_disk(*o, 0.5 * o->thickness);
-    run([&] { print_json("lj-disk-plate", law.evaluate(o->distance, o->cosine)); });
+    const MapParameters p("fibrane law lj-disk-plate", {{"epsilon", o->epsilon}, {"sigma", o->sigma},
+                                                         {"density_beam", o->density_beam},
+                                                         {"density_shell", o->density_shell},
+                                                         {"strength", o->strength}});
+    evaluate_registry_law(*laws::law_registry().make("lennard_jones", p, {o->radius, o->thickness}), *o);
   });
+
+  auto* any = law->add_subcommand("interaction", "Any interaction law of the registry (case files' law: {model: ...})");
+  any->add_option("--law", o->law, "The law as a YAML map, e.g. '{model: inverse_power, exponent: 9, coefficient: -1}'")
+      ->required();
+  any->add_option("--radius", o->radius, "Disk radius R")->required();
+  any->add_option("--thickness", o->thickness, "Plate thickness h")->required();
+  any->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
+  any->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
+  any->callback([o]() {
+    const io::YamlNode spec = io::YamlNode::load_string(o->law, "--law");
+    evaluate_registry_law(*casefile::make_law(spec, {o->radius, o->thickness}), *o);
+  });
+  std::string known;
+  for (const auto& e : laws::law_registry().entries()) known += "\n  " + e.name + ": " + e.summary;
+  any->footer("Laws:" + known);
 
   auto* sphere = law->add_subcommand("disk-sphere", "Disk-sphere law (App. F, corrected), m = 6");
   sphere->add_option("--radius", o->radius, "Disk radius R_D")->required();

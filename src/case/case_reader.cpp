@@ -7,9 +7,7 @@
 
 #include "case/case_conditions.hpp"
 #include "case/case_geometry.hpp"
-#include "io/yaml_parameters.hpp"
-#include "laws/law_registry.hpp"
-#include "laws/lennard_jones.hpp"
+#include "case/case_laws.hpp"
 #include "model/observables.hpp"
 
 namespace fibrane::casefile {
@@ -99,20 +97,6 @@ void read_beam(Model& m, const io::YamlNode& node) {
   m.add_beam(std::move(body));
 }
 
-// The interaction law: `lennard_jones: {epsilon, sigma, ...}` or `law: {model: NAME, ...}` (any law of
-// laws::law_registry()).
-std::shared_ptr<const laws::InteractionLaw> read_law(const io::YamlNode& node, const laws::LawGeometry& g) {
-  const bool lj = node.has("lennard_jones"), general = node.has("law");
-  if (lj == general) node.fail_message("give the interaction law either as 'lennard_jones: {...}' or as 'law: {model: ...}'");
-  if (lj) return laws::law_registry().make("lennard_jones", io::YamlParameters(node["lennard_jones"]), g);
-  const auto law = node["law"];
-  if (!law.is_map()) law.fail("a map {model: NAME, parameters...}");
-  const auto model = law["model"];
-  const std::string name = model.as_string();
-  if (!laws::law_registry().find(name)) model.fail("one of " + laws::law_registry().names_text());
-  return laws::law_registry().make(name, io::YamlParameters(law, {"model"}), g);
-}
-
 void read_interaction(Model& m, const io::YamlNode& node) {
   const auto beam_node = node["beam"], shell_node = node["shell"];
   const BeamBody* b = nullptr;
@@ -134,7 +118,7 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   auto ff_tangent = interaction::FfTangent::exact;
   if (auto t = node.optional("ff_tangent"))
     ff_tangent = t->as_choice({"exact", "rf1"}) == "rf1" ? interaction::FfTangent::rf1 : interaction::FfTangent::exact;
-  auto law = read_law(node, {b->section_radius, shell->section.thickness});
+  auto law = read_interaction_law(node, {b->section_radius, shell->section.thickness});
   double soft_width = 0, soft_below = 0;
   if (auto soft = node.optional("soft_minimum")) {
     if (formulation != interaction::Formulation::RF2)
