@@ -1,4 +1,4 @@
-// Cost of one Lennard-Jones disk-plate evaluation with all derivatives (issue 4: < 200 ns), at
+// Cost of one Lennard-Jones disk-plate evaluation with all derivatives (target: < 200 ns), at
 // typical beam-shell distances: near the equilibrium (difference form of Eq. 56) and far away (the
 // stable thickness-quadrature form).
 #include <benchmark/benchmark.h>

@@ -22,7 +22,7 @@ FIBRANE = BUILD / "app" / "fibrane"
 TEST_MODEL = BUILD / "tests" / "test_model"
 DEGREES = (2, 3, 4)
 ELEMENTS = (4, 8, 16, 32, 64)
-BEND_REFERENCE = (47.151, 15.685, 53.469)  # inextensible Kirchhoff rod (issue 3)
+BEND_REFERENCE = (47.151, 15.685, 53.469)  # inextensible Kirchhoff rod (docs/verification.md)
 
 
 def run_case(example, degree, elements, workdir):

@@ -30,7 +30,7 @@ STRENGTHS = ("0.5", "1", "2")
 
 
 def variants(quick):
-    """name -> list of (old text, new text) edits; strengths are run on the second mesh (100x25x25: three paper-mesh runs do not fit a session)."""
+    """name -> list of (old text, new text) edits; strengths are run on the second mesh (100x25x25: three more paper-mesh runs would take half an hour each)."""
     meshes = QUICK_MESHES if quick else MESHES
     v = {}
     for name, (beam, shell) in meshes.items():

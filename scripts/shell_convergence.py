@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Mesh-convergence tables of the Kirchhoff-Love shell benchmarks (issue 2: linear benchmarks, nonlinear).
+"""Mesh-convergence tables of the Kirchhoff-Love shell benchmarks (linear and nonlinear benchmarks).
 
 Runs the CLI on edited copies of examples/scordelis-lo.yaml, examples/pinched-cylinder.yaml and
 examples/rollup-strip.yaml and prints markdown tables:
