@@ -13,7 +13,10 @@ struct OutputSettings {
   std::string directory;  // relative paths are relative to the working directory
   bool vtk = true;
   int vtk_every = 1;      // write VTK every n-th converged step (and always the last)
-  int samples = 4;        // sampling points per element edge for VTK
+  int samples = 4;        // sampling points per element edge for the sampled VTK files
+  // Which VTK files a body gets: exact Bezier cells (geometry, displacement, twist) as <body>.pvd,
+  // sampled cells with the section forces and moments as <body>_sampled.pvd, or both.
+  bool bezier = true, sampled = true;
 };
 
 // The continuation methods a case can choose (steps.method).

@@ -209,6 +209,11 @@ void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, c
   out.vtk = node->get("vtk", out.vtk);
   out.vtk_every = node->has("vtk_every") ? (*node)["vtk_every"].positive_int() : out.vtk_every;
   out.samples = node->has("samples") ? (*node)["samples"].positive_int() : out.samples;
+  if (auto cells = node->optional("vtk_cells")) {
+    const std::string which = cells->as_choice({"bezier", "sampled", "both"});
+    out.bezier = which != "sampled";
+    out.sampled = which != "bezier";
+  }
   node->reject_unknown_keys();
 }
 

@@ -1,5 +1,7 @@
 #include "output/body_vtk.hpp"
 
+#include "io/bezier_vtu.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -122,6 +124,31 @@ io::VtuMesh coupling_vtu(const Coupling& c) {
   mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm),
                      std::move(soft)};
   return mesh;
+}
+
+io::VtuMesh shell_bezier_vtu(const Model& m, const ShellBody& s) {
+  const auto& u = m.displacement();
+  std::vector<Eigen::Vector3d> current = s.surface.control_points();
+  io::VtuMesh::Field disp{"displacement", 3, {}};
+  for (int cp = 0; cp < s.num_control_points(); ++cp) {
+    const Eigen::Vector3d d(u[m.dofs.dof(s.block, cp, 0)], u[m.dofs.dof(s.block, cp, 1)], u[m.dofs.dof(s.block, cp, 2)]);
+    current[cp] += d;
+    push3(disp.values, d);
+  }
+  return io::bezier_surface_vtu(s.surface, current, {disp});
+}
+
+io::VtuMesh beam_bezier_vtu(const Model& m, const BeamBody& b) {
+  const auto& u = m.displacement();
+  std::vector<Eigen::Vector3d> current = b.curve.control_points();
+  io::VtuMesh::Field disp{"displacement", 3, {}}, twist{"twist", 1, {}};
+  for (int cp = 0; cp < b.num_control_points(); ++cp) {
+    const Eigen::Vector3d d(u[m.dofs.dof(b.block, cp, 0)], u[m.dofs.dof(b.block, cp, 1)], u[m.dofs.dof(b.block, cp, 2)]);
+    current[cp] += d;
+    push3(disp.values, d);
+    twist.values.push_back(u[m.dofs.dof(b.block, cp, 3)]);
+  }
+  return io::bezier_curve_vtu(b.curve, current, {disp, twist});
 }
 
 }  // namespace fibrane::output

@@ -9,6 +9,10 @@ namespace fibrane::output {
 // contravariant); beams: displacement, twist, directors, section force and moments.
 io::VtuMesh shell_vtu(const model::Model& m, const model::ShellBody& s, int samples);
 io::VtuMesh beam_vtu(const model::Model& m, const model::BeamBody& b, int samples);
+// Exact geometry: Bezier cells of the deformed NURBS (io/bezier_vtu.hpp) with the displacement (and, for
+// beams, the twist) as control-point fields, which VTK interpolates exactly as the splines do.
+io::VtuMesh shell_bezier_vtu(const model::Model& m, const model::ShellBody& s);
+io::VtuMesh beam_bezier_vtu(const model::Model& m, const model::BeamBody& b);
 // The beam quadrature points of an interaction with distance, cos(alpha) and the force per length.
 io::VtuMesh coupling_vtu(const model::Coupling& c);
 

@@ -27,13 +27,31 @@ std::vector<std::string> output_names(const model::Model& m) {
   return names;
 }
 
+// The VTK series of a case, in the order write_vtk() writes them: per body its Bezier and/or sampled
+// series, then the interactions' points.
+std::vector<std::string> vtk_series_names(const casefile::Case& c) {
+  std::vector<std::string> names;
+  const std::string sampled = c.output.bezier ? "_sampled" : "";
+  auto body = [&](const std::string& name) {
+    if (c.output.bezier) names.push_back(name);
+    if (c.output.sampled) names.push_back(name + sampled);
+  };
+  for (const auto& s : c.model->shells) body(s.name());
+  for (const auto& b : c.model->beams) body(b.name());
+  for (const auto& k : c.model->couplings) names.push_back(k.name());
+  return names;
+}
+
 // A run into a directory that holds an earlier run's output removes that run's per-step files and summary
 // first: otherwise a longer earlier run leaves steps beyond this run's end beside it (ParaView would not
 // show them, but a script reading the folder would), and an interrupted run would keep a summary saying
-// "completed". Only names this case writes (<name>_<6 digits>.vtu / .csv) are touched.
+// "completed"; a collection of another VTK choice (a <body>_sampled.pvd beside a Bezier-only run) would
+// point at removed files. Only names this case writes (<name>[_sampled].pvd, <name>[_sampled]_<6 digits>.vtu,
+// <name>_<6 digits>.csv, summary.json) are touched; history.csv is rewritten.
 void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m) {
   namespace fs = std::filesystem;
-  const std::vector<std::string> names = output_names(m);
+  std::vector<std::string> names = output_names(m);
+  for (const auto& n : output_names(m)) names.push_back(n + "_sampled");
   auto is_step_file = [&](const fs::path& f, const std::string& ext) {
     const std::string stem = f.stem().string();
     if (f.extension() != ext || stem.size() < 8 || stem[stem.size() - 7] != '_') return false;
@@ -43,6 +61,7 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
   };
   std::error_code ec;
   fs::remove(dir / "summary.json", ec);
+  for (const auto& n : names) fs::remove(dir / (n + ".pvd"), ec);
   for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
     if (!fs::is_directory(dir / sub)) continue;
     for (const auto& entry : fs::directory_iterator(dir / sub))
@@ -60,7 +79,7 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory)
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
   history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(), history_columns(*c.model));
   if (c.output.vtk)
-    for (const auto& name : output_names(*c.model)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
+    for (const auto& name : vtk_series_names(c)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
 }
 
 void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {
@@ -79,8 +98,16 @@ void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
     io::write_vtu((std::filesystem::path(dir_) / rel).string(), mesh);
     series_[k++].add(r.t, rel);
   };
-  for (const auto& s : m.shells) write(s.name(), shell_vtu(m, s, case_.output.samples));
-  for (const auto& b : m.beams) write(b.name(), beam_vtu(m, b, case_.output.samples));
+  const auto& o = case_.output;
+  const std::string sampled = o.bezier ? "_sampled" : "";
+  for (const auto& s : m.shells) {
+    if (o.bezier) write(s.name(), shell_bezier_vtu(m, s));
+    if (o.sampled) write(s.name() + sampled, shell_vtu(m, s, o.samples));
+  }
+  for (const auto& b : m.beams) {
+    if (o.bezier) write(b.name(), beam_bezier_vtu(m, b));
+    if (o.sampled) write(b.name() + sampled, beam_vtu(m, b, o.samples));
+  }
   for (const auto& c : m.couplings) write(c.name(), coupling_vtu(c));
 }
 

@@ -31,14 +31,23 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   const std::string script = std::string(FIBRANE_SOURCE_DIR) + "/tests/app/read_vtk.py";
   const auto read = run_cli_command("/usr/bin/python3 '" + script + "' '" + out.string() + "'");
   ASSERT_EQ(read.exit_code, 0) << read.output;
-  // One dataset per written step (21: the initial state and 20 steps), each with the shell fields.
+  // One dataset per written step (21: the initial state and 20 steps) in each of the two series: the exact
+  // Bezier cells with the displacement, and the sampled cells with the section forces.
   std::istringstream lines(read.output);
-  int datasets = 0;
+  int bezier = 0, sampled = 0;
   for (std::string line; std::getline(lines, line);) {
-    ++datasets;
-    EXPECT_NE(line.find("displacement N_local M_local"), std::string::npos) << line;
+    if (line.rfind("strip.pvd ", 0) == 0) {
+      ++bezier;
+      EXPECT_NE(line.find("displacement"), std::string::npos) << line;
+      EXPECT_NE(line.find("RationalWeights"), std::string::npos) << line;
+    } else {
+      ++sampled;
+      EXPECT_EQ(line.rfind("strip_sampled.pvd ", 0), 0u) << line;
+      EXPECT_NE(line.find("displacement N_local M_local"), std::string::npos) << line;
+    }
   }
-  EXPECT_EQ(datasets, 21) << read.output;
+  EXPECT_EQ(bezier, 21) << read.output;
+  EXPECT_EQ(sampled, 21) << read.output;
 
   // A shorter run into the same directory leaves none of the first run's steps behind (and keeps files
   // that are not a run's step files).
@@ -54,7 +63,7 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   EXPECT_NE(rerun.output.find("newton t=0.05 it=0 |r|="), std::string::npos) << rerun.output;
   int vtu = 0;
   for (const auto& f : std::filesystem::directory_iterator(out / "vtk")) vtu += f.path().extension() == ".vtu";
-  EXPECT_EQ(vtu, 6);  // the initial state and 5 steps of 0.05
+  EXPECT_EQ(vtu, 12);  // the initial state and 5 steps of 0.05, Bezier and sampled
   EXPECT_TRUE(std::filesystem::exists(out / "vtk" / "notes.txt"));
 }
 
