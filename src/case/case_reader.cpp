@@ -248,6 +248,8 @@ Case read_case(const std::string& path) {
     if (!found) root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
   }
   read_output(c.output, root.optional("output"), c.name);
+  if (c.output.vtk && c.output.sampled)
+    for (auto& b : m.beams) b.set_output_samples(c.output.samples);
   root.reject_unknown_keys();
   try {
     m.finalize();

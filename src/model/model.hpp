@@ -4,6 +4,7 @@
 // methods of src/solve drive: given the free unknowns q and the load parameter t it assembles the reduced
 // residual, tangent and load derivative in one loop over its contributions.
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -44,7 +45,9 @@ class Model : public solve::NonlinearSystem {
   std::deque<PointMoment> moments;
   std::deque<EdgeMoment> edge_moments;
   NodalLoads nodal_loads;
-  std::vector<Monitor> monitors;
+  std::vector<std::unique_ptr<Monitor>> monitors;
+  // The DOFs each named constraint of the case fixes, prescribes or ties (slaves and masters), sorted.
+  std::map<std::string, std::vector<int>> named_constraints;
 
   // Bodies get their DOF block here: 3 per shell control point, 4 (x, y, z, twist) per beam control point.
   ShellBody& add_shell(ShellBody body);
@@ -77,7 +80,6 @@ class Model : public solve::NonlinearSystem {
   double strain_energy() const { return energy(EnergyKind::strain); }
   double energy(EnergyKind kind) const { return energies_[static_cast<int>(kind)]; }
   double time() const { return t_; }
-  double monitor_value(const Monitor& m) const { return m.value(u_, full_residual()); }
   int num_elements() const { return assembler_.num_elements(); }
   const PhaseTimes& times() const { return times_; }
   void reset_times() { times_ = PhaseTimes{}; }

@@ -133,7 +133,7 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   j.set("t_reached", result.t_reached).set("steps", result.steps).set("newton_iterations", result.total_iterations);
   j.set("wall_seconds", wall_seconds).set("linear_solver", solver_name);
   io::JsonValue monitors = io::JsonValue::object();
-  for (const auto& mon : m.monitors) monitors.set(mon.name, m.monitor_value(mon));
+  for (const auto& mon : m.monitors) monitors.set(mon->name(), mon->value(m));
   j.set("final_monitors", std::move(monitors));
   io::JsonValue soft = io::JsonValue::object();
   for (const auto& c : m.couplings)
