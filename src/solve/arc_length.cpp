@@ -24,8 +24,7 @@ struct ArcLength::Attempt {
   Eigen::VectorXd q;
   double t = 0;
   int iterations = 0;
-  double residual_norm = 0;
-  std::vector<double> history;
+  std::vector<double> history;  // |r| at every evaluation
   std::string failure;
   bool tangent_current = false;  // the system's last evaluation was at (q, t) with the tangent
   bool landed = false;           // (q, t) was solved at fixed t = t_end
@@ -67,35 +66,24 @@ ArcLength::ArcLength(ArcLengthControl control, NewtonOptions newton)
   check_arc_length_control(control_);
 }
 
-ArcLength::~ArcLength() = default;
-
 MethodState ArcLength::save() const {
-  MethodState s;
-  s["t"] = {t_};
-  s["ds"] = {ds_};
-  s["load_scale"] = {c_};
-  s["path_length"] = {path_length_};
-  s["steps"] = {static_cast<double>(steps_)};
-  s["have_prev"] = {have_prev_ ? 1.0 : 0.0};
-  s["dq_prev"] = std::vector<double>(dq_prev_.data(), dq_prev_.data() + dq_prev_.size());
-  s["dt_prev"] = {dt_prev_};
-  s["tangent_dt_sign"] = {static_cast<double>(tangent_dt_sign_)};
-  s["negative_eigenvalues"] = {static_cast<double>(inertia_prev_)};
-  return s;
+  return {{"t", {t_}}, {"ds", {ds_}}, {"load_scale", {c_}}, {"path_length", {path_length_}},
+          {"steps", {static_cast<double>(steps_)}}, {"have_prev", {have_prev_ ? 1.0 : 0.0}},
+          {"dq_prev", std::vector<double>(dq_prev_.data(), dq_prev_.data() + dq_prev_.size())},
+          {"dt_prev", {dt_prev_}}, {"tangent_dt_sign", {static_cast<double>(tangent_dt_sign_)}},
+          {"negative_eigenvalues", {static_cast<double>(inertia_prev_)}}};
 }
 
 void ArcLength::restore(const MethodState& s) {
-  t_ = s.at("t").at(0);
-  ds_ = s.at("ds").at(0);
-  c_ = s.at("load_scale").at(0);
-  path_length_ = s.at("path_length").at(0);
-  steps_ = static_cast<int>(s.at("steps").at(0));
-  have_prev_ = s.at("have_prev").at(0) != 0.0;
+  auto value = [&s](const char* key) { return s.at(key).at(0); };
+  t_ = value("t"), ds_ = value("ds"), c_ = value("load_scale"), path_length_ = value("path_length");
+  steps_ = static_cast<int>(value("steps"));
+  have_prev_ = value("have_prev") != 0.0;
   const auto& dq = s.at("dq_prev");
   dq_prev_ = Eigen::Map<const Eigen::VectorXd>(dq.data(), static_cast<Eigen::Index>(dq.size()));
-  dt_prev_ = s.at("dt_prev").at(0);
-  tangent_dt_sign_ = static_cast<int>(s.at("tangent_dt_sign").at(0));
-  inertia_prev_ = static_cast<int>(s.at("negative_eigenvalues").at(0));
+  dt_prev_ = value("dt_prev");
+  tangent_dt_sign_ = static_cast<int>(value("tangent_dt_sign"));
+  inertia_prev_ = static_cast<int>(value("negative_eigenvalues"));
   restored_ = true;
 }
 
@@ -148,12 +136,9 @@ bool ArcLength::tangent_at_state(NonlinearSystem& sys, LinearSolver& solver, Tan
     if (tangent.dq.allFinite()) return true;
   }
   tangent.negative_eigenvalues = -1;
-  const double c2 = c_ > 0 ? c_ * c_ : 0.0;
-  if (have_prev_)
-    return bordered_solve(k, r_t, dq_prev_, c2 * dt_prev_, Eigen::VectorXd::Zero(k.rows()), 1.0, tangent.dq,
-                          tangent.dt);
-  return bordered_solve(k, r_t, Eigen::VectorXd::Zero(k.rows()), control_.initial_direction,
-                        Eigen::VectorXd::Zero(k.rows()), 1.0, tangent.dq, tangent.dt);
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(k.rows());
+  return have_prev_ ? bordered_solve(k, r_t, dq_prev_, c_ * c_ * dt_prev_, zero, 1.0, tangent.dq, tangent.dt)
+                    : bordered_solve(k, r_t, zero, control_.initial_direction, zero, 1.0, tangent.dq, tangent.dt);
 }
 
 // +1 or -1: the orientation of the predictor along `tangent` (see ArcLengthControl::ambiguous_cosine).
@@ -248,7 +233,6 @@ ArcLength::Attempt ArcLength::correct(NonlinearSystem& sys, const Eigen::VectorX
   for (int it = 0;; ++it) {
     sys.evaluate(at.q, at.t, true);
     const double norm = sys.residual().norm();
-    at.residual_norm = norm;
     at.history.push_back(norm);
     if (newton_.verbose) std::fprintf(stderr, "  arc length t=%.6g it=%d |r|=%.6e\n", at.t, it, norm);
     if (!std::isfinite(norm)) {
@@ -311,7 +295,6 @@ bool ArcLength::land_on_t_end(NonlinearSystem& sys, const Eigen::VectorXd& q0, d
   attempt.converged = attempt.landed = true;
   attempt.q = q;
   attempt.t = t_end;
-  attempt.residual_norm = newton.residual_norm;
   attempt.history = newton.history;
   attempt.tangent_current = false;
   return true;
@@ -347,6 +330,52 @@ bool ArcLength::step(NonlinearSystem& sys, const Eigen::VectorXd& q, const Tange
   }
 }
 
+// Records the converged attempt as the new state, prepares the next predictor's tangent at it (before
+// sys.accept()) and returns the step's report.
+StepReport ArcLength::advance(NonlinearSystem& sys, Eigen::VectorXd& q, const Attempt& at, double ds, int cutbacks,
+                              LinearSolver& solver, Tangent& tangent, bool& have_tangent) {
+  const ArcLengthControl& ac = control_;
+  StepReport report;
+  report.dt = at.t - t_;
+  report.limit_point = have_prev_ && report.dt * dt_prev_ < 0;
+  dq_prev_ = at.q - q;
+  dt_prev_ = report.dt;
+  have_prev_ = true;
+  path_length_ += at.landed ? std::sqrt(dq_prev_.squaredNorm() + c_ * c_ * report.dt * report.dt) : ds;
+  q = at.q;
+  t_ = at.t;
+  report.step = ++steps_;
+  // Crisfield (1981): ds_new = ds (I_desired / I)^(1/2), no growth right after a cut-back.
+  const double factor = std::sqrt(static_cast<double>(ac.desired_iterations) / std::max(at.iterations, 1));
+  ds_ = std::clamp(ds * std::clamp(factor, ac.cutback, cutbacks > 0 ? 1.0 : ac.growth), ac.ds_min, ac.ds_max);
+  if (!at.tangent_current) sys.evaluate(q, t_, true);
+  have_tangent = tangent_at_state(sys, solver, tangent);
+  sys.accept(q, t_);
+  report.t = t_;
+  report.iterations = at.iterations;
+  report.residual_norm = at.history.back();
+  report.cutbacks = cutbacks;
+  report.history = at.history;
+  report.negative_eigenvalues = have_tangent ? tangent.negative_eigenvalues : -1;
+  if (newton_.verbose)
+    std::fprintf(stderr, "arc-length step %d: t=%.6g dt=%.3g ds=%.3g iterations=%d%s\n", steps_, t_, report.dt, ds,
+                 at.iterations, report.limit_point ? " (limit point)" : "");
+  return report;
+}
+
+// True (with the outcome in res) when the step just taken ends the run: t_end, the load range or the
+// path length.
+bool ArcLength::end_reached(bool landed, ContinuationResult& res) const {
+  const ArcLengthControl& ac = control_;
+  const bool long_enough = path_length_ >= ac.max_path_length * (1 - 1e-12);
+  if (!landed && !long_enough && t_ >= ac.t_min && t_ <= ac.t_max) return false;
+  res.outcome = Outcome::reached_end;
+  res.message = landed        ? "reached t_end = " + format_number(ac.t_end)
+                : long_enough ? "reached the path length " + format_number(path_length_)
+                              : "t = " + format_number(t_) + " left [t_min, t_max]";
+  return true;
+}
+
 ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                                   const StepCallback& on_step) {
   if (q.size() != sys.size()) throw std::invalid_argument("ArcLength::run: q has the wrong size");
@@ -365,20 +394,17 @@ ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, Line
   res.t_reached = t_;
   res.steps = steps_;
   Tangent tangent;
-  bool have_tangent = false;
-  for (;;) {
+  for (bool have_tangent = false;;) {
     if (res.steps >= ac.max_steps) {
       res.outcome = Outcome::max_steps;
       res.message = "stopped after max_steps = " + std::to_string(ac.max_steps) + " steps";
       return res;
     }
-    if (!have_tangent) {
-      sys.evaluate(q, t_, true);
-      if (!tangent_at_state(sys, solver, tangent)) {
-        res.outcome = Outcome::failed;
-        res.message = "no tangent of the path at t = " + format_number(t_) + " (singular or non-finite)";
-        return res;
-      }
+    if (!have_tangent) sys.evaluate(q, t_, true);
+    if (!have_tangent && !tangent_at_state(sys, solver, tangent)) {
+      res.outcome = Outcome::failed;
+      res.message = "no tangent of the path at t = " + format_number(t_) + " (singular or non-finite)";
+      return res;
     }
     if (c_ < 0) {  // automatic scaling: |dq/dt| of the first tangent
       c_ = tangent.dt != 0 ? tangent.dq.norm() / std::abs(tangent.dt) : 0.0;
@@ -388,50 +414,15 @@ ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, Line
     double ds = std::min(ds_, ac.max_path_length - path_length_);
     int cutbacks = 0;
     if (!step(sys, q, tangent, solver, at, ds, cutbacks, res)) return res;
-    const double dt = at.t - t_;
-    const bool limit = have_prev_ && dt * dt_prev_ < 0;
-    dq_prev_ = at.q - q;
-    dt_prev_ = dt;
-    have_prev_ = true;
-    path_length_ += at.landed ? std::sqrt(dq_prev_.squaredNorm() + c_ * c_ * dt * dt) : ds;
-    q = at.q;
-    t_ = at.t;
+    const StepReport report = advance(sys, q, at, ds, cutbacks, solver, tangent, have_tangent);
     res.t_reached = t_;
-    steps_ = ++res.steps;
-    // Crisfield (1981): ds_new = ds (I_desired / I)^(1/2), no growth right after a cut-back.
-    const double factor = std::sqrt(static_cast<double>(ac.desired_iterations) / std::max(at.iterations, 1));
-    ds_ = std::clamp(ds * std::clamp(factor, ac.cutback, cutbacks > 0 ? 1.0 : ac.growth), ac.ds_min, ac.ds_max);
-    // The next predictor's tangent, at the converged state (and its inertia for the report).
-    if (!at.tangent_current) sys.evaluate(q, t_, true);
-    have_tangent = tangent_at_state(sys, solver, tangent);
-    sys.accept(q, t_);
-    StepReport report;
-    report.step = res.steps;
-    report.t = t_;
-    report.dt = dt;
-    report.iterations = at.iterations;
-    report.residual_norm = at.residual_norm;
-    report.cutbacks = cutbacks;
-    report.history = at.history;
-    report.negative_eigenvalues = have_tangent ? tangent.negative_eigenvalues : -1;
-    report.limit_point = limit;
-    if (newton_.verbose)
-      std::fprintf(stderr, "arc-length step %d: t=%.6g dt=%.3g ds=%.3g iterations=%d%s\n", res.steps, t_, dt, ds,
-                   at.iterations, limit ? " (limit point)" : "");
+    res.steps = steps_;
     if (on_step && !on_step(report, q)) {
       res.outcome = Outcome::stopped;
       res.message = "stopped by the step callback at t = " + format_number(t_);
       return res;
     }
-    if (at.landed || t_ < ac.t_min || t_ > ac.t_max ||
-        path_length_ >= ac.max_path_length * (1 - 1e-12)) {
-      res.outcome = Outcome::reached_end;
-      res.message = at.landed ? "reached t_end = " + format_number(ac.t_end)
-                    : path_length_ >= ac.max_path_length * (1 - 1e-12)
-                        ? "reached the path length " + format_number(path_length_)
-                        : "t = " + format_number(t_) + " left [t_min, t_max]";
-      return res;
-    }
+    if (end_reached(at.landed, res)) return res;
   }
 }
 

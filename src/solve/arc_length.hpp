@@ -16,6 +16,12 @@
 // passes limit points of t and of single displacements but takes huge load steps where the response is
 // stiff (t changes while q hardly does, e.g. at contact). With the default, the first step has
 // dt = ds / (sqrt(2) c); ds is always in the units of q.
+//
+// What a model must provide: after every evaluate() with the tangent, load_derivative() = d r / d t at
+// fixed q, exact. With u = T q + g(t) and r = T^T (f_int(u) - f_ext(u, t)) this is
+// T^T (K_u g'(t) - d f_ext / d t), K_u the full tangent d (f_int - f_ext) / d u (load stiffness of
+// configuration-dependent loads included): prescribed displacements enter through K_u g', not only
+// the load vector.
 #include <memory>
 #include <string>
 
@@ -34,8 +40,10 @@ enum class ArcLengthCorrector {
   quadratic,
   // Newton on the extended system [r; (|dq|^2 + c^2 dt^2 - ds^2) / 2] = 0 (consistent linearisation,
   // Schweizerhof & Wriggers 1986, Comput. Methods Appl. Mech. Eng. 59, 261-279): delta_t =
-  // -(g + dq.a) / (dq.b + c^2 dt). On the constraint surface (g = 0) this is Ramm's (1981) updated normal
-  // plane, the iterative form of Riks (1979). Iterates leave the surface by O(update^2).
+  // -(g + dq.a) / (dq.b + c^2 dt). On the constraint surface (g = 0) this is the updated normal plane of
+  // Ramm (1981) "Strategies for tracing the nonlinear response near limit points", in Nonlinear Finite
+  // Element Analysis in Structural Mechanics, Springer, 63-89, an iterative form of Riks (1979). Iterates
+  // leave the surface by O(update^2).
   linearized,
 };
 
@@ -47,7 +55,8 @@ struct ArcLengthControl {
   // discarded and the step is solved again by Newton at fixed t = t_end from the linear interpolation
   // between the two states, so the last point lies exactly on t_end; it is accepted only if it lies within
   // the discarded step's length of the interpolation (otherwise Newton found another branch at t_end:
-  // the step is cut back like a failed one).
+  // the step is cut back like a failed one). The landing uses newton_solve with the method's NewtonOptions;
+  // its report counts the corrector's and the landing's iterations and has the landing's history.
   double t_end = 1.0;
   // The run also ends after the first converged step outside [t_min, t_max] (that step is reported), or
   // once the path length (sum of the converged steps' ds) reaches max_path_length (the last step is
@@ -68,8 +77,8 @@ struct ArcLengthControl {
   int initial_direction = +1;  // sign of dt of the first step
   // The predictor's direction is chosen by the sign of the scaled dot product of the tangent with the last
   // converged increment (Crisfield 1991, Ch. 9; it keeps the path from turning back at a limit point).
-  // Where that is ambiguous (|cos| of the angle below this; 1: always) and the solver reports inertia at both ends
-  // of the last step, the determinant rule decides instead: dt/ds keeps its sign unless the number of
+  // Where that is ambiguous (|cos| of the angle below this; 1: always) and the solver reports inertia at
+  // both ends of the last step, the determinant rule decides instead: dt/ds keeps its sign unless the number of
   // negative eigenvalues changed parity (det K changed sign: a limit point of t was passed). The
   // determinant rule alone is wrong at bifurcation points (det K changes sign, t does not turn).
   double ambiguous_cosine = 0.05;
@@ -80,7 +89,7 @@ struct ArcLengthControl {
 // ambiguous_cosine in [0, 1].
 void check_arc_length_control(const ArcLengthControl& control);
 
-// Arc-length continuation as a ContinuationMethod (the run driver's steps.method "arc_length").
+// Arc-length continuation as a ContinuationMethod (name "arc_length").
 //
 // Per step: the tangent predictor dq = v dt with K v = -r_t at the converged state (r_t =
 // sys.load_derivative(), K = sys.tangent()), scaled to the length ds and oriented as described at
@@ -110,7 +119,6 @@ class ArcLength final : public ContinuationMethod {
  public:
   // Throws InputError (check_arc_length_control).
   ArcLength(ArcLengthControl control, NewtonOptions newton);
-  ~ArcLength() override;
   std::string name() const override { return "arc_length"; }
   // Throws std::invalid_argument if q has the wrong size or the system provides no load derivative.
   ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
@@ -137,6 +145,9 @@ class ArcLength final : public ContinuationMethod {
                   int sign, double ds, LinearSolver& solver);
   bool corrector_update(NonlinearSystem& sys, LinearSolver& solver, const Eigen::VectorXd& dq, double dt,
                         double ds, Eigen::VectorXd& delta_q, double& delta_t, std::string& failure);
+  StepReport advance(NonlinearSystem& sys, Eigen::VectorXd& q, const Attempt& attempt, double ds, int cutbacks,
+                     LinearSolver& solver, Tangent& tangent, bool& have_tangent);
+  bool end_reached(bool landed, ContinuationResult& res) const;
   bool land_on_t_end(NonlinearSystem& sys, const Eigen::VectorXd& q0, double t0, double ds, Attempt& attempt,
                      LinearSolver& solver);
   bool bordered_solve(const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& r_t,
@@ -152,8 +163,10 @@ class ArcLength final : public ContinuationMethod {
   Eigen::VectorXd dq_prev_;  // last converged increment
   double dt_prev_ = 0;
   bool have_prev_ = false, restored_ = false;
-  int tangent_dt_sign_ = 0;  // sign of dt/ds along the path at the last converged state (0: unknown)
-  int inertia_prev_ = -1;    // negative eigenvalues at the last converged state (-1: unknown)
+  // dt/ds sign and negative eigenvalues at the state the last predictor started from, for the next
+  // step's determinant rule (0, -1: unknown).
+  int tangent_dt_sign_ = 0;
+  int inertia_prev_ = -1;
   int disagreements_ = 0;
 };
 

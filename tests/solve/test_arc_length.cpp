@@ -60,17 +60,6 @@ class InertiaSolver : public LinearSolver {
   int negative_ = -1;
 };
 
-// Refuses every factorisation, as a solver does at an exactly singular tangent.
-class RefusingSolver : public LinearSolver {
- public:
-  void analyze(const Eigen::SparseMatrix<double>&) override {}
-  bool factorize(const Eigen::SparseMatrix<double>&) override { return ++refusals, false; }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return b * std::nan(""); }
-  std::string name() const override { return "refusing"; }
-  long factor_nonzeros() const override { return 0; }
-  int refusals = 0;
-};
-
 // Vertex (x, y) of the parabola through three points: the located extremum of y(x).
 std::pair<double, double> parabola_vertex(double x0, double y0, double x1, double y1, double x2, double y2) {
   // Newton form y = y0 + d01 (x - x0) + a (x - x0) (x - x1); y' = 0 at x = (x0 + x1) / 2 - d01 / (2 a).
@@ -249,12 +238,12 @@ TEST(ArcLength, WrongInertiaMisleadsTheDeterminantRule) {
 
 // Crisfield's snap-back example: the truss (h = k = 1) behind a spring k_s = 0.5 < 2 (L0 - 1) = 0.83, dead
 // load t at the spring's top. See make_truss_with_spring for the analytic path, parametrised by w1.
-TEST(ArcLength, TrussBehindASoftSpringSnapsBack) {
+void check_snap_back(const ArcLengthControl& ac) {
   const Truss truss;
   const double spring = 0.5;
   ToySystem sys = testing::make_truss_with_spring(truss, spring, 1.0);
   InertiaSolver solver(make_linear_solver("auto", true));
-  ArcLength method(truss_control(), tight_newton());
+  ArcLength method(ac, tight_newton());
   std::vector<PathPoint> path;
   const ContinuationResult res = testing::trace(method, sys, Eigen::VectorXd::Zero(2), solver, path);
   ASSERT_EQ(res.outcome, Outcome::reached_end) << res.message;
@@ -301,9 +290,24 @@ TEST(ArcLength, TrussBehindASoftSpringSnapsBack) {
   EXPECT_EQ(method.sign_disagreements(), 0);
 }
 
+TEST(ArcLength, TrussBehindASoftSpringSnapsBack) {
+  struct Variant {
+    ArcLengthCorrector corrector;
+    double load_scale;
+  };
+  for (const Variant v : {Variant{ArcLengthCorrector::quadratic, -1.0}, Variant{ArcLengthCorrector::linearized, -1.0},
+                          Variant{ArcLengthCorrector::quadratic, 0.0}}) {
+    SCOPED_TRACE(::testing::Message() << "corrector " << static_cast<int>(v.corrector) << ", c " << v.load_scale);
+    ArcLengthControl ac = truss_control();
+    ac.corrector = v.corrector;
+    ac.load_scale = v.load_scale;
+    check_snap_back(ac);
+  }
+}
+
 TEST(ArcLength, RefusedFactorisationsGoThroughTheExtendedSystem) {
   ToySystem fold = testing::make_fold();
-  RefusingSolver solver;
+  testing::RefusingSolver solver;
   ArcLengthControl ac;
   ac.t_end = 0.0;
   ac.ds_max = 0.2;

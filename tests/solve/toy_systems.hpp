@@ -1,8 +1,10 @@
 #pragma once
 // Small NonlinearSystems with closed-form residual, tangent and exact load derivative d r / d t, for the
 // continuation tests: a scalar fold, the von Mises truss (two-bar toggle) under a dead load and the same
-// truss loaded through a linear spring in series (Crisfield's snap-back example).
+// truss loaded through a linear spring in series (Crisfield's snap-back example); a solver that refuses
+// to factorise, and a helper recording a traced path.
 #include <cmath>
+#include <string>
 #include <functional>
 #include <utility>
 #include <vector>
@@ -127,6 +129,17 @@ inline ToySystem make_truss_with_spring(
       },
       [=](const Eigen::VectorXd&, double t) { return Eigen::Vector2d(0.0, -load * curve_derivative(t)).eval(); });
 }
+
+// Refuses every factorisation, as a solver does at an exactly singular tangent; counts the refusals.
+class RefusingSolver : public LinearSolver {
+ public:
+  void analyze(const Eigen::SparseMatrix<double>&) override {}
+  bool factorize(const Eigen::SparseMatrix<double>&) override { return ++refusals, false; }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return b * std::nan(""); }
+  std::string name() const override { return "refusing"; }
+  long factor_nonzeros() const override { return 0; }
+  int refusals = 0;
+};
 
 // A converged point of a traced path.
 struct PathPoint {
