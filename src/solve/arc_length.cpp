@@ -224,6 +224,10 @@ ArcLength::Attempt ArcLength::correct(NonlinearSystem& sys, const Eigen::VectorX
                                       const Tangent& tangent, int sign, double ds, LinearSolver& solver) {
   Attempt at;
   const double length = std::sqrt(tangent.dq.squaredNorm() + c_ * c_ * tangent.dt * tangent.dt);
+  if (!(length > 0)) {  // cylindrical constraint (c = 0) on a state where dq/dt = 0
+    at.failure = "the tangent has no length in the constraint's norm";
+    return at;
+  }
   Eigen::VectorXd dq = (sign * ds / length) * tangent.dq;
   double dt = sign * ds / length * tangent.dt;
   at.q = q0 + dq;

@@ -12,8 +12,6 @@
 #include <tuple>
 #include <vector>
 
-#include <Eigen/Eigenvalues>
-
 #include "common/error.hpp"
 #include "solve/arc_length.hpp"
 #include "toy_systems.hpp"
@@ -21,6 +19,8 @@
 namespace fibrane::solve {
 namespace {
 
+using testing::dense_negative_eigenvalues;
+using testing::InertiaSolver;
 using testing::PathPoint;
 using testing::ToySystem;
 using testing::Truss;
@@ -33,32 +33,6 @@ NewtonOptions tight_newton() {
   opt.tol_absolute = 1e-14;
   return opt;
 }
-
-// Negative eigenvalues of a symmetric matrix by a dense eigen-decomposition.
-int dense_negative_eigenvalues(const Eigen::MatrixXd& k) {
-  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
-  return static_cast<int>((lambda.array() < 0).count());
-}
-
-// Reports the inertia of every factorised matrix from a dense eigen-decomposition; solves with `inner`.
-// Stands in for a solver whose factorisation reports inertia (LinearSolver::negative_eigenvalues).
-class InertiaSolver : public LinearSolver {
- public:
-  explicit InertiaSolver(std::unique_ptr<LinearSolver> inner) : inner_(std::move(inner)) {}
-  void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override {
-    negative_ = dense_negative_eigenvalues(Eigen::MatrixXd(a));
-    return inner_->factorize(a);
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return inner_->solve(b); }
-  std::string name() const override { return "inertia " + inner_->name(); }
-  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
-  int negative_eigenvalues() const override { return negative_; }
-
- private:
-  std::unique_ptr<LinearSolver> inner_;
-  int negative_ = -1;
-};
 
 // Vertex (x, y) of the parabola through three points: the located extremum of y(x).
 std::pair<double, double> parabola_vertex(double x0, double y0, double x1, double y1, double x2, double y2) {

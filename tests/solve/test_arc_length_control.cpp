@@ -61,21 +61,22 @@ TEST(ArcLengthToys, LoadDerivativeAndTangentMatchCentralDifferences) {
   }
 }
 
-// The snap-back run (2 unknowns, both limit points, solver-reported inertia so the determinant rule's state
-// is part of the restart) stopped after `stop` steps, saved, and continued by a new method object on a new
-// system from the saved state.
+// The snap-back run (2 unknowns, both limit points; solver-reported inertia and ambiguous_cosine = 1, so
+// the determinant rule decides every direction and its state must survive the restart) stopped after
+// `stop` steps, saved, and continued by a new method object on a new system from the saved state.
 TEST(ArcLengthControl, SaveAndRestoreMidPathContinueOnTheSamePath) {
   ArcLengthControl ac;
   ac.t_end = 0.5;
   ac.ds_max = 0.05;
   ac.max_steps = 1000;
+  ac.ambiguous_cosine = 1.0;
   auto run = [&](int stop, MethodState* saved, const MethodState* restored, Eigen::VectorXd& q) {
     ToySystem sys = testing::make_truss_with_spring(Truss{}, 0.5, 1.0);
-    auto solver = make_linear_solver("auto", true);
+    testing::InertiaSolver solver(make_linear_solver("auto", true));
     ArcLength method(ac, tight_newton());
     if (restored) method.restore(*restored);
     std::vector<PathPoint> path;
-    method.run(sys, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd& qs) {
+    method.run(sys, q, solver, [&](const StepReport& rep, const Eigen::VectorXd& qs) {
       path.push_back({rep, qs});
       return rep.step != stop;
     });
@@ -103,6 +104,7 @@ TEST(ArcLengthControl, SaveAndRestoreMidPathContinueOnTheSamePath) {
     EXPECT_LE((a.q - b.q).norm(), 1e-12) << "step " << a.report.step;
     EXPECT_EQ(a.report.limit_point, b.report.limit_point);
     EXPECT_EQ(a.report.iterations, b.report.iterations);
+    EXPECT_EQ(a.report.negative_eigenvalues, b.report.negative_eigenvalues);
   }
   EXPECT_EQ(q, q_full);
 }

@@ -1,15 +1,18 @@
 #pragma once
 // Small NonlinearSystems with closed-form residual, tangent and exact load derivative d r / d t, for the
 // continuation tests: a scalar fold, the von Mises truss (two-bar toggle) under a dead load and the same
-// truss loaded through a linear spring in series (Crisfield's snap-back example); a solver that refuses
-// to factorise, and a helper recording a traced path.
+// truss loaded through a linear spring in series (Crisfield's snap-back example); solver doubles (one
+// reporting inertia from a dense eigen-decomposition, one refusing to factorise) and a helper recording a
+// traced path.
 #include <cmath>
 #include <string>
 #include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
 #include "solve/continuation.hpp"
@@ -129,6 +132,32 @@ inline ToySystem make_truss_with_spring(
       },
       [=](const Eigen::VectorXd&, double t) { return Eigen::Vector2d(0.0, -load * curve_derivative(t)).eval(); });
 }
+
+// Negative eigenvalues of a symmetric matrix by a dense eigen-decomposition.
+inline int dense_negative_eigenvalues(const Eigen::MatrixXd& k) {
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(k).eigenvalues();
+  return static_cast<int>((lambda.array() < 0).count());
+}
+
+// Reports the inertia of every factorised matrix from a dense eigen-decomposition; solves with `inner`.
+// Stands in for a solver whose factorisation reports inertia (LinearSolver::negative_eigenvalues).
+class InertiaSolver : public LinearSolver {
+ public:
+  explicit InertiaSolver(std::unique_ptr<LinearSolver> inner) : inner_(std::move(inner)) {}
+  void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
+  bool factorize(const Eigen::SparseMatrix<double>& a) override {
+    negative_ = dense_negative_eigenvalues(Eigen::MatrixXd(a));
+    return inner_->factorize(a);
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return inner_->solve(b); }
+  std::string name() const override { return "inertia " + inner_->name(); }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  int negative_eigenvalues() const override { return negative_; }
+
+ private:
+  std::unique_ptr<LinearSolver> inner_;
+  int negative_ = -1;
+};
 
 // Refuses every factorisation, as a solver does at an exactly singular tangent; counts the refusals.
 class RefusingSolver : public LinearSolver {
