@@ -11,11 +11,11 @@
 // The scaling c converts the load parameter into the units of q. By default c = |dq/dt| of the first
 // tangent predictor, so both terms of the constraint weigh the same at the start and the method does not
 // depend on the units of t: scaling t by a factor scales c by its inverse and leaves c dt unchanged. A
-// fixed c much larger than |dq/dt| makes the constraint one on t alone (load control, which stops at the
-// first limit point of t); c = 0 (Crisfield's cylindrical form, an option) makes it one on q alone, which
-// passes limit points of t and of single displacements but takes huge load steps where the response is
-// stiff (t changes while q hardly does, e.g. at contact). With the default, the first step has
-// dt = ds / (sqrt(2) c); ds is always in the units of q.
+// fixed c much larger than |dq/dt| makes the constraint nearly one on t alone (close to load control,
+// with its trouble at limit points of t); c = 0 (Crisfield's cylindrical form, an option) makes it one on
+// the norm of dq alone, which passes limit points of t and turning points of single displacements but
+// takes huge load steps where the response is stiff (t changes while q hardly does, e.g. at contact).
+// With the default, the first step has dt = ds / (sqrt(2) c); ds is always in the units of q.
 //
 // What a model must provide: after every evaluate() with the tangent, load_derivative() = d r / d t at
 // fixed q, exact. With u = T q + g(t) and r = T^T (f_int(u) - f_ext(u, t)) this is
