@@ -78,9 +78,9 @@ struct ArcLengthControl {
   // The predictor's direction is chosen by the sign of the scaled dot product of the tangent with the last
   // converged increment (Crisfield 1991, Ch. 9; it keeps the path from turning back at a limit point).
   // Where that is ambiguous (|cos| of the angle below this; 1: always) and the solver reports inertia at
-  // both ends of the last step, the determinant rule decides instead: dt/ds keeps its sign unless the number of
-  // negative eigenvalues changed parity (det K changed sign: a limit point of t was passed). The
-  // determinant rule alone is wrong at bifurcation points (det K changes sign, t does not turn).
+  // both ends of the last step, the determinant rule decides instead: dt/ds keeps its sign unless the
+  // number of negative eigenvalues changed parity (det K changed sign: a limit point of t was passed).
+  // The determinant rule alone is wrong at bifurcation points (det K changes sign, t does not turn).
   double ambiguous_cosine = 0.05;
 };
 
