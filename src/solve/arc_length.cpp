@@ -163,7 +163,8 @@ int ArcLength::predictor_sign(const Tangent& tangent) {
       ++disagreements_;
       if (newton_.verbose)
         std::fprintf(stderr, "arc length at t=%.6g: angle rule (cos %.3g) and determinant rule disagree; "
-                     "following the %s rule\n", t_, norms > 0 ? dot / norms : 0.0, sign == angle_sign ? "angle" : "determinant");
+                     "following the %s rule\n", t_, norms > 0 ? dot / norms : 0.0,
+                     sign == angle_sign ? "angle" : "determinant");
     }
   }
   tangent_dt_sign_ = sign * sign_of(tangent.dt);
@@ -245,7 +246,8 @@ ArcLength::Attempt ArcLength::correct(NonlinearSystem& sys, const Eigen::VectorX
     }
     if (it == 0) scale = std::max(norm, sys.residual_scale());
     // Convergence as in newton_solve, including its round-off floor rule.
-    const bool at_floor = small_update && norm <= 2.0 * previous_norm && norm <= std::sqrt(newton_.tol_relative) * scale;
+    const bool at_floor =
+        small_update && norm <= 2.0 * previous_norm && norm <= std::sqrt(newton_.tol_relative) * scale;
     if (norm <= std::max(newton_.tol_relative * scale, newton_.tol_absolute) || at_floor) {
       at.converged = at.tangent_current = true;
       return at;

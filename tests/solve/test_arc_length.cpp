@@ -302,7 +302,8 @@ TEST(ArcLength, StartsFromAnExactLimitPointWithTheBorderedTangent) {
   // The state at the limit point q = 1, t = 2/3 (f'(1) = 0: K singular), arrived at from q = 0.9.
   ArcLength method(ArcLengthControl{}, tight_newton());
   method.restore({{"t", {2.0 / 3.0}}, {"ds", {0.1}}, {"load_scale", {1.0}}, {"path_length", {1.0}},
-                  {"steps", {7}}, {"have_prev", {1}}, {"dq_prev", {0.1}}, {"dt_prev", {2.0 / 3.0 - testing::fold_f(0.9)}},
+                  {"steps", {7}}, {"have_prev", {1}}, {"dq_prev", {0.1}},
+                  {"dt_prev", {2.0 / 3.0 - testing::fold_f(0.9)}},
                   {"tangent_dt_sign", {1}}, {"negative_eigenvalues", {0}}});
   ToySystem fold = testing::make_fold();
   auto solver = make_linear_solver("auto", true);

@@ -32,9 +32,10 @@ double chord(const PathPoint& a, const PathPoint& b, double c) {
 
 TEST(ArcLengthToys, LoadDerivativeAndTangentMatchCentralDifferences) {
   // The spring-loaded truss with a curved load function lambda(t) = sin t, so that r is not linear in t.
+  auto sine = [](double t) { return std::sin(t); };
+  auto cosine = [](double t) { return std::cos(t); };
   std::vector<ToySystem> toys = {testing::make_fold(), testing::make_truss(Truss{}, 1.3),
-                                 testing::make_truss_with_spring(Truss{0.7, 1.2}, 0.4, 0.9, [](double t) { return std::sin(t); },
-                                                                 [](double t) { return std::cos(t); })};
+                                 testing::make_truss_with_spring(Truss{0.7, 1.2}, 0.4, 0.9, sine, cosine)};
   // Central differences with h = 1e-5: truncation h^2 |r'''| / 6 ~ 2e-11 for third derivatives of O(1),
   // round-off 1e-16 / 1e-5 = 1e-11; 1e-6 relative (of max(|exact|, 1)) is far above both and far below any
   // wrong term or factor.
@@ -54,7 +55,8 @@ TEST(ArcLengthToys, LoadDerivativeAndTangentMatchCentralDifferences) {
           qp[j] += h;
           qm[j] -= h;
           const Eigen::VectorXd column = (toy.residual_at(qp, t) - toy.residual_at(qm, t)) / (2 * h);
-          EXPECT_LE((column - k.col(j)).norm(), 1e-6 * std::max(k.col(j).norm(), 1.0)) << "toy " << i << " column " << j;
+          EXPECT_LE((column - k.col(j)).norm(), 1e-6 * std::max(k.col(j).norm(), 1.0))
+              << "toy " << i << " column " << j;
         }
       }
     }

@@ -103,7 +103,10 @@ struct Truss {
 // loads t = U'(w) / P at U''(w) = 0.
 inline ToySystem make_truss(const Truss& truss, double load) {
   return ToySystem(
-      1, [truss, load](const Eigen::VectorXd& q, double t) { return Eigen::VectorXd::Constant(1, truss.force(q[0]) - load * t); },
+      1,
+      [truss, load](const Eigen::VectorXd& q, double t) {
+        return Eigen::VectorXd::Constant(1, truss.force(q[0]) - load * t);
+      },
       [truss](const Eigen::VectorXd& q, double) { return Eigen::MatrixXd::Constant(1, 1, truss.stiffness(q[0])); },
       [load](const Eigen::VectorXd&, double) { return Eigen::VectorXd::Constant(1, -load); });
 }
