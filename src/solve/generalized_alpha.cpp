@@ -89,6 +89,20 @@ Eigen::VectorXd from_vector(const std::vector<double>& x) {
   return Eigen::Map<const Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
 }
 
+StepReport step_report(int step, double t, double dt, int cutbacks, const NewtonReport& newton, const EnergyReport& energy) {
+  StepReport r;
+  r.step = step;
+  r.t = t;
+  r.dt = dt;
+  r.iterations = newton.iterations;
+  r.residual_norm = newton.residual_norm;
+  r.cutbacks = cutbacks;
+  r.history = newton.history;
+  r.negative_eigenvalues = newton.negative_eigenvalues;
+  r.energy = energy;
+  return r;
+}
+
 }  // namespace
 
 GeneralizedAlpha::GeneralizedAlpha(StepControl control, NewtonOptions newton, TransientOptions options)
@@ -248,17 +262,7 @@ ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd&
     res.t_reached = state_.t;
     dt_ = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? std::min(dt_try * sc.growth, sc.dt_max) : dt_try;
     sys->accept(q, state_.t);
-    StepReport report;
-    report.step = res.steps;
-    report.t = state_.t;
-    report.dt = state_.t - t_old;
-    report.iterations = newton.iterations;
-    report.residual_norm = newton.residual_norm;
-    report.cutbacks = cutbacks;
-    report.history = newton.history;
-    report.negative_eigenvalues = newton.negative_eigenvalues;
-    report.energy = state_.energy;
-    if (on_step && !on_step(report, q)) {
+    if (on_step && !on_step(step_report(res.steps, state_.t, state_.t - t_old, cutbacks, newton, state_.energy), q)) {
       res.outcome = Outcome::stopped;
       res.message = "stopped by the step callback at t = " + format_number(state_.t);
       return res;

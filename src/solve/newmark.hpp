@@ -6,9 +6,10 @@
 //   M a + C v + r(u, t) = R   (R: support reactions, non-zero at constrained DOFs only).
 // Generalized-alpha (Chung & Hulbert 1993, J. Appl. Mech. 60:371-375) enforces it at weighted states
 //   x_{n+1-alpha} = (1 - alpha) x_{n+1} + alpha x_n,
-// with the force-averaged ("trapezoidal-like") form of the non-inertial forces, so that r is evaluated only
-// at the end points (Kuhl & Crisfield 1999, IJNME 45:569-599; Erlicher, Bonaventura & Bursi 2002,
-// Comput. Mech. 28:83-104, who analyse this form for non-linear problems):
+// with the non-inertial forces averaged between the end points ("trapezoidal-like"), so that r is
+// evaluated only at the end points, never at an intermediate state (the form of generalized-alpha used
+// for non-linear structural dynamics by Kuhl & Crisfield 1999, IJNME 45:569-599; the method's accuracy
+// and stability for non-linear problems: Erlicher, Bonaventura & Bursi 2002, Comput. Mech. 28:83-104):
 //   M a_{n+1-alpha_m} + C v_{n+1-alpha_f} + (1 - alpha_f) r(u_{n+1}, t_{n+1}) + alpha_f r(u_n, t_n) = R_w.
 // For a linear r = K u - f(t) this is Chung & Hulbert's scheme with the load interpolated linearly in time,
 // so their amplification matrix, spectral radius and stability conditions hold unchanged.
@@ -71,7 +72,8 @@ inline double damping_tangent_factor(const GeneralizedAlphaParameters& p, double
 
 // The acceleration at t_{n+1} to second order from the method's acceleration variable: a_n approximates
 // the acceleration at t_n + (alpha_m - alpha_f) dt, not at t_n (Arnold & Bruls 2007, Multibody Syst. Dyn.
-// 18:185-202, Sec. 3), so a_{n+1} - (alpha_m - alpha_f) (a_{n+1} - a_n) is the one at t_{n+1}. Equal to
+// 18:185-202; from (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) f_{n+1} + alpha_f f_n for a'' = f(t)),
+// so a_{n+1} - (alpha_m - alpha_f) (a_{n+1} - a_n) is the one at t_{n+1}. Equal to
 // a_{n+1} for the trapezoidal rule and rho_inf = 1. Used for reactions, not for the time stepping.
 template <class V>
 V acceleration_at_end(const GeneralizedAlphaParameters& p, const V& a_n, const V& a) {
