@@ -80,9 +80,9 @@ struct TransientState {
   Eigen::VectorXd u, v, a;
   Eigen::VectorXd residual;        // r(u, t) = f_int - f_ext, without inertia
   Eigen::VectorXd external_force;  // f_ext(u, t)
-  // M a(t) + C v + r with the acceleration at t to second order (h'' by acceleration_at_end): at constrained DOFs
-  // the support reactions, at free DOFs the equilibrium defect of the scheme at t (zero for the
-  // trapezoidal rule, O(dt^2) otherwise).
+  // M a(t) + C v + r with the acceleration at t to second order (h'' by acceleration_at_end): at
+  // constrained DOFs the support reactions, at free DOFs the equilibrium defect of the scheme at t (zero
+  // for the trapezoidal rule, O(dt^2) otherwise).
   Eigen::VectorXd reaction;
   Eigen::VectorXd mass_velocity;   // M v
   EnergyReport energy;
@@ -91,8 +91,8 @@ struct TransientState {
 // Generalized-alpha time stepping from t_start to t_end with the step control of load stepping: fixed steps
 // (dt_initial = dt_max, growth = 1) or adaptive ones (a step whose Newton iteration fails is retried with
 // dt * cutback, down to dt_min; a step converged in at most easy_iterations lets dt grow by `growth` up to
-// dt_max). `extrapolate` selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n). Never steps past
-// t_end. stop_at_limit_point is ignored: a dynamic run has no limit point.
+// dt_max). `extrapolate` selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n).
+// Never steps past t_end. stop_at_limit_point is ignored: a dynamic run has no limit point.
 //
 // Energy account per step (Delta x = x_{n+1} - x_n, bar x = (x_n + x_{n+1}) / 2, full vectors):
 //   external_work   += Delta u . bar f_ext

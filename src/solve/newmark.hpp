@@ -83,11 +83,12 @@ V acceleration_at_end(const GeneralizedAlphaParameters& p, const V& a_n, const V
 
 // One step of the generalized-alpha method as a TransientSystem sees it, on FULL vectors (DOF numbering of
 // the model). The inertia and damping terms of the step's residual, divided by (1 - alpha_f), are M w with
-//   w(u_{n+1}) = [M-weighted acceleration] / (1 - alpha_f) + a_M [weighted velocity] / (1 - alpha_f),
-// (C = a_M M), which is affine in u_{n+1} DOF by DOF with one slope for all DOFs:
-//   w(u) = w_ref + mass_factor (u - u_ref).
-// The method computes u_ref and w_ref (solve/generalized_alpha.cpp says how); the pointers stay valid while
-// the step is set.
+//   w(u_{n+1}) = (a_w + a_M v_w) / (1 - alpha_f)
+// (weighted acceleration a_w and velocity v_w as in solve/generalized_alpha.hpp, C = a_M M). w is affine
+// in u_{n+1}, DOF by DOF, with one slope for all DOFs:
+//   w(u) = w_ref + mass_factor (u - u_ref),
+// u_ref = h_n + g(t_{n+1}) being the displacement at which the free part has not moved since t_n and
+// w_ref = w(u_ref). The pointers refer to the method's vectors and stay valid while the step is set.
 struct StepKinematics {
   double t_n = 0.0, t = 0.0, dt = 0.0;  // the step runs from t_n to t = t_n + dt
   // dw/du = (1 - alpha_m) / (beta dt^2 (1 - alpha_f)) + a_M gamma / (beta dt): the factor of M in the
