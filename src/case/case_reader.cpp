@@ -8,6 +8,7 @@
 #include "case/case_conditions.hpp"
 #include "case/case_geometry.hpp"
 #include "case/case_laws.hpp"
+#include "case/case_steps.hpp"
 #include "model/observables.hpp"
 
 namespace fibrane::casefile {
@@ -153,53 +154,6 @@ void for_each_entry(const std::optional<io::YamlNode>& list, F&& f) {
   if (!list) return;
   if (!list->is_sequence()) list->fail("a list");
   for (std::size_t i = 0; i < list->size(); ++i) f(list->at(i));
-}
-
-void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
-  if (!node) return;
-  auto& s = run.steps;
-  s.t_end = node->get("t_end", s.t_end);
-  if (auto v = node->optional("t_end")) v->positive();
-  s.dt_initial = node->has("dt") ? (*node)["dt"].positive() : s.dt_initial;
-  s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
-  s.dt_min = node->has("dt_min") ? (*node)["dt_min"].positive() : s.dt_min;
-  if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
-  if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
-  s.easy_iterations = node->get("easy_iterations", s.easy_iterations);
-  s.growth = node->get("growth", s.growth);
-  s.cutback = node->get("cutback", s.cutback);
-  if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
-  if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
-  s.max_steps = node->get("max_steps", s.max_steps);
-  if (auto method = node->optional("method"))
-    run.method = method->as_choice({"load_stepping", "linear"}) == "linear" ? Method::linear : Method::load_stepping;
-  if (auto linear = node->optional("linear")) {  // the short form of method: linear
-    if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
-    if (linear->as_bool()) run.method = Method::linear;
-  }
-  if (auto stop = node->optional("stop")) {
-    if (stop->has("column") || stop->has("below_fraction_of_peak")) {
-      run.stop_column = (*stop)["column"].as_string();
-      run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
-    }
-    s.stop_at_limit_point = stop->get("at_limit_point", false);
-    stop->reject_unknown_keys();
-  }
-  s.extrapolate = node->get("extrapolate", s.extrapolate);
-  run.newton.max_iterations = node->get("max_iterations", run.newton.max_iterations);
-  run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);
-  run.newton.tol_absolute = node->get("tolerance_absolute", run.newton.tol_absolute);
-  run.newton.tol_increment = node->get("tolerance_increment", run.newton.tol_increment);
-  if (node->has("line_search")) {
-    run.newton.line_search = (*node)["line_search"].as_int();
-    if (run.newton.line_search < 0 || run.newton.line_search > 30)
-      (*node)["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
-  }
-  if (node->has("reuse_factorization"))
-    run.newton.reuse_below = (*node)["reuse_factorization"].in_range(0.0, 1.0, false, true);
-  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
-                                          : run.linear_solver;
-  node->reject_unknown_keys();
 }
 
 void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, const std::string& name) {

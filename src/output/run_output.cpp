@@ -11,7 +11,8 @@
 namespace fibrane::output {
 
 std::vector<std::string> history_columns(const model::Model& m) {
-  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual"};
+  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual", "negative_eigenvalues",
+                                   "limit_point"};
   for (const auto& o : model::observables(m)) columns.push_back(o.name);
   return columns;
 }
@@ -84,7 +85,7 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory)
 
 void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {
   std::vector<double> row{static_cast<double>(r.step), r.t, m.functions(0, r.t), static_cast<double>(r.iterations),
-                          r.residual_norm};
+                          r.residual_norm, static_cast<double>(r.negative_eigenvalues), r.limit_point ? 1.0 : 0.0};
   for (const auto& o : observables_) row.push_back(o.value(m));
   history_->row(row);
   for (const auto& c : m.couplings) write_coupling_csv(c, r.step);

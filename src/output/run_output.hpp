@@ -15,8 +15,9 @@
 
 namespace fibrane::output {
 
-// Column names of history.csv: step, t, load factor, iterations, residual, then the model's observables
-// (model/observables.hpp).
+// Column names of history.csv: step, t, load factor, iterations, residual, the number of negative
+// eigenvalues of the tangent at the step's end (-1: the solver does not tell), whether t passed an
+// extremum within the step (1) or not (0), then the model's observables (model/observables.hpp).
 std::vector<std::string> history_columns(const model::Model& m);
 
 class RunOutput {

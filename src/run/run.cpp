@@ -12,6 +12,7 @@
 #include "io/progress.hpp"
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
+#include "solve/arc_length.hpp"
 #include "solve/linear_solver.hpp"
 #include "solve/linear_step.hpp"
 #include "solve/load_stepping.hpp"
@@ -24,6 +25,7 @@ std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettin
   newton.verbose = verbose;
   switch (s.method) {
     case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
+    case casefile::Method::arc_length: return std::make_unique<solve::ArcLength>(s.arc_length, newton);
     case casefile::Method::load_stepping: break;
   }
   return std::make_unique<solve::LoadStepping>(s.steps, newton);

@@ -1,0 +1,98 @@
+#include "case/case_steps.hpp"
+
+#include <algorithm>
+
+namespace fibrane::casefile {
+namespace {
+
+// steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
+// max_path_length, direction}.
+void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  if (auto v = node->optional("ds")) a.ds_initial = v->positive();
+  if (auto v = node->optional("ds_min")) a.ds_min = v->positive();
+  a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
+  if (a.ds_min > a.ds_initial) (*node)["ds_min"].fail("ds_min <= ds");
+  if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
+  if (auto v = node->optional("desired_iterations")) a.desired_iterations = v->positive_int();
+  if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
+  if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
+  if (auto v = node->optional("scale")) {  // auto, cylindrical, or a positive number
+    const std::string text = v->is_scalar() ? v->as_string() : "";
+    if (text == "auto") a.load_scale = -1.0;
+    else if (text == "cylindrical") a.load_scale = 0.0;
+    else a.load_scale = v->positive();
+  }
+  if (auto v = node->optional("corrector"))
+    a.corrector = v->as_choice({"quadratic", "linearized"}) == "quadratic" ? solve::ArcLengthCorrector::quadratic
+                                                                           : solve::ArcLengthCorrector::linearized;
+  a.t_min = node->get("t_min", a.t_min);
+  a.t_max = node->get("t_max", a.t_max);
+  if (auto v = node->optional("max_path_length")) a.max_path_length = v->positive();
+  if (auto v = node->optional("direction"))
+    a.initial_direction = v->as_choice({"increasing", "decreasing"}) == "increasing" ? 1 : -1;
+  node->reject_unknown_keys();
+}
+
+void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
+  if (auto v = node.optional("max_iterations")) newton.max_iterations = v->positive_int();
+  if (auto v = node.optional("tolerance")) newton.tol_relative = v->positive();
+  if (auto v = node.optional("tolerance_absolute")) newton.tol_absolute = v->non_negative();
+  if (auto v = node.optional("tolerance_increment")) newton.tol_increment = v->non_negative();
+  if (node.has("line_search")) {
+    newton.line_search = node["line_search"].as_int();
+    if (newton.line_search < 0 || newton.line_search > 30)
+      node["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
+  }
+  if (node.has("reuse_factorization")) newton.reuse_below = node["reuse_factorization"].in_range(0.0, 1.0, false, true);
+}
+
+}  // namespace
+
+void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  auto& s = run.steps;
+  s.t_end = node->get("t_end", s.t_end);
+  if (auto v = node->optional("t_end")) v->positive();
+  s.dt_initial = node->has("dt") ? (*node)["dt"].positive() : s.dt_initial;
+  s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
+  s.dt_min = node->has("dt_min") ? (*node)["dt_min"].positive() : s.dt_min;
+  if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
+  if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
+  if (auto v = node->optional("easy_iterations")) s.easy_iterations = v->positive_int();
+  s.growth = node->get("growth", s.growth);
+  s.cutback = node->get("cutback", s.cutback);
+  if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
+  if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
+  if (auto v = node->optional("max_steps")) s.max_steps = v->positive_int();
+  if (auto method = node->optional("method")) {
+    const std::string m = method->as_choice({"load_stepping", "linear", "arc_length"});
+    run.method = m == "linear" ? Method::linear : m == "arc_length" ? Method::arc_length : Method::load_stepping;
+  }
+  if (auto linear = node->optional("linear")) {  // the short form of method: linear
+    if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
+    if (linear->as_bool()) run.method = Method::linear;
+  }
+  if (auto a = node->optional("arc_length")) {
+    if (run.method != Method::arc_length) a->fail_message("arc-length controls need 'method: arc_length'");
+    read_arc_length(run.arc_length, a);
+  }
+  if (auto stop = node->optional("stop")) {
+    if (stop->has("column") || stop->has("below_fraction_of_peak")) {
+      run.stop_column = (*stop)["column"].as_string();
+      run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
+    }
+    s.stop_at_limit_point = stop->get("at_limit_point", false);
+    stop->reject_unknown_keys();
+  }
+  s.extrapolate = node->get("extrapolate", s.extrapolate);
+  read_newton(run.newton, *node);
+  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
+                                          : run.linear_solver;
+  node->reject_unknown_keys();
+  run.arc_length.t_start = s.t_start;
+  run.arc_length.t_end = s.t_end;
+  run.arc_length.max_steps = s.max_steps;
+}
+
+}  // namespace fibrane::casefile
