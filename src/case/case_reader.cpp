@@ -21,13 +21,19 @@ using model::ShellBody;
 namespace {
 
 void read_functions(Model& m, const io::YamlNode& node) {
-  if (!node.is_map()) node.fail("a map of name: {linear: slope} | {constant: value} | {table: [[t, f], ...]}");
+  if (!node.is_map())
+    node.fail("a map of name: {linear: slope} | {constant: value} | {table: [[t, f], ...]} | "
+              "{smooth_ramp: {slope, duration}}");
   for (const auto& name : node.keys()) {
     const auto f = node[name];
     if (auto l = f.optional("linear")) {
       m.functions.add(name, LoadFunction::linear(l->as_double()));
     } else if (auto c = f.optional("constant")) {
       m.functions.add(name, LoadFunction::constant(c->as_double()));
+    } else if (auto r = f.optional("smooth_ramp")) {
+      const double slope = (*r)["slope"].as_double(), duration = (*r)["duration"].positive();
+      r->reject_unknown_keys();
+      m.functions.add(name, LoadFunction::smooth_ramp(slope, duration));
     } else if (auto t = f.optional("table")) {
       std::vector<std::pair<double, double>> pts;
       if (!t->is_sequence() || t->size() == 0) t->fail("a list of [t, f] pairs");
@@ -39,7 +45,7 @@ void read_functions(Model& m, const io::YamlNode& node) {
       }
       m.functions.add(name, LoadFunction::table(std::move(pts)));
     } else {
-      f.fail("one of {linear: slope}, {constant: value}, {table: [[t, f], ...]}");
+      f.fail("one of {linear: slope}, {constant: value}, {table: [[t, f], ...]}, {smooth_ramp: {slope, duration}}");
     }
     f.reject_unknown_keys();
   }
@@ -53,8 +59,10 @@ void read_shell(Model& m, const io::YamlNode& node) {
   const auto mat = node["material"];
   section.young = mat["young"].positive();
   section.poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
+  const double density = mat.has("density") ? mat["density"].positive() : 0.0;
   mat.reject_unknown_keys();
   ShellBody body(name, std::move(surface), section);
+  body.density = density;
   if (auto g = node.optional("gauss_points")) {
     body.gauss_points[0] = body.gauss_points[1] = g->positive_int();
   }
@@ -82,6 +90,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
   const auto mat = node["material"];
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
+  const double density = mat.has("density") ? mat["density"].positive() : 0.0;
   mat.reject_unknown_keys();
   double radius = 0.0;
   const auto section = read_section(node["section"], young, poisson, radius);
@@ -92,6 +101,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
   }
   BeamBody body(name, std::move(curve), section, director);
   body.section_radius = radius;
+  body.density = density;
   if (auto share = node.optional("symmetry_share")) body.share = share->in_range(0.0, 1.0, true, false);
   if (auto g = node.optional("gauss_points")) body.gauss_points = g->positive_int();
   node.reject_unknown_keys();
@@ -200,6 +210,13 @@ Case read_case(const std::string& path) {
       found |= o.name == c.run.stop_column;
     }
     if (!found) root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
+  }
+  if (c.run.method == Method::dynamics) {
+    m.inertia = true;
+    for (const auto& s : m.shells)
+      if (!(s.density > 0)) root.fail_message("a dynamic run needs every body's material density: shell '" + s.name() + "' has none");
+    for (const auto& b : m.beams)
+      if (!(b.density > 0)) root.fail_message("a dynamic run needs every body's material density: beam '" + b.name() + "' has none");
   }
   read_output(c.output, root.optional("output"), c.name);
   if (c.output.vtk && c.output.sampled)

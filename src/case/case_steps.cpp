@@ -34,6 +34,24 @@ void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNod
   node->reject_unknown_keys();
 }
 
+// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, start: rest | equilibrium}.
+void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  if (node->has("rho_inf") && node->has("scheme"))
+    (*node)["scheme"].fail_message("give either 'rho_inf' or 'scheme: trapezoidal'");
+  if (auto r = node->optional("rho_inf"))
+    d.parameters = solve::GeneralizedAlphaParameters::chung_hulbert(r->in_range(0.0, 1.0, false, false));
+  if (auto sc = node->optional("scheme")) {
+    sc->as_choice({"trapezoidal"});
+    d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
+  }
+  if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
+  if (auto v = node->optional("start"))
+    d.start = v->as_choice({"rest", "equilibrium"}) == "rest" ? solve::TransientOptions::Start::rest
+                                                               : solve::TransientOptions::Start::solve;
+  node->reject_unknown_keys();
+}
+
 void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
   if (auto v = node.optional("max_iterations")) newton.max_iterations = v->positive_int();
   if (auto v = node.optional("tolerance")) newton.tol_relative = v->positive();
@@ -66,8 +84,11 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
   if (auto v = node->optional("max_steps")) s.max_steps = v->positive_int();
   if (auto method = node->optional("method")) {
-    const std::string m = method->as_choice({"load_stepping", "linear", "arc_length"});
-    run.method = m == "linear" ? Method::linear : m == "arc_length" ? Method::arc_length : Method::load_stepping;
+    const std::string m = method->as_choice({"load_stepping", "linear", "arc_length", "dynamics"});
+    run.method = m == "linear"       ? Method::linear
+                 : m == "arc_length" ? Method::arc_length
+                 : m == "dynamics"   ? Method::dynamics
+                                     : Method::load_stepping;
   }
   if (auto linear = node->optional("linear")) {  // the short form of method: linear
     if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
@@ -76,6 +97,10 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (auto a = node->optional("arc_length")) {
     if (run.method != Method::arc_length) a->fail_message("arc-length controls need 'method: arc_length'");
     read_arc_length(run.arc_length, a);
+  }
+  if (auto d = node->optional("dynamics")) {
+    if (run.method != Method::dynamics) d->fail_message("time-integration controls need 'method: dynamics'");
+    read_dynamics(run.dynamics, d);
   }
   if (auto stop = node->optional("stop")) {
     if (stop->has("column") || stop->has("below_fraction_of_peak")) {

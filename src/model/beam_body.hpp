@@ -32,6 +32,7 @@ class BeamBody final : public Contribution {
   double section_radius = 0.0;  // radius of a circular section (interactions need it); 0: other section
   int block = -1;
   int gauss_points = 0;  // 0 means degree + 1
+  double density = 0;    // mass per unit volume (dynamics only)
   std::vector<BeamElement> elements;
   std::vector<std::vector<beam::BeamPointState>> states;  // [element][quadrature point]
 

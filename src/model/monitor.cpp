@@ -7,7 +7,7 @@
 namespace fibrane::model {
 
 double LinearMonitor::value(const Model& m) const {
-  const Eigen::VectorXd& v = source_ == Source::displacement ? m.displacement() : m.full_residual();
+  const Eigen::VectorXd& v = source_ == Source::displacement ? m.displacement() : m.reactions();
   double s = offset_;
   for (const auto& [dof, w] : weights_) s += w * v[dof];
   return s;
