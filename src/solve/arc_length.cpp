@@ -363,6 +363,7 @@ StepReport ArcLength::advance(NonlinearSystem& sys, Eigen::VectorXd& q, const At
   report.cutbacks = cutbacks;
   report.history = at.history;
   report.negative_eigenvalues = have_tangent ? tangent.negative_eigenvalues : -1;
+  report.path_length = path_length_;
   if (newton_.verbose)
     std::fprintf(stderr, "arc-length step %d: t=%.6g dt=%.3g ds=%.3g iterations=%d%s\n", steps_, t_, report.dt, ds,
                  at.iterations, report.limit_point ? " (limit point)" : "");
