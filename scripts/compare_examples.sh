@@ -9,6 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 reference=${1:?reference binary}; new=${2:?new binary}; out=${3:-out/compare-examples}
 shift $(( $# < 3 ? $# : 3 )); [ "${1:-}" = "--" ] && shift
+mkdir -p "$out"
 status=0
 for case_file in examples/*.yaml; do
   name=$(basename "$case_file" .yaml)
