@@ -383,6 +383,38 @@ bool ArcLength::end_reached(bool landed, ContinuationResult& res) const {
   return true;
 }
 
+// A path starts at an equilibrium: a start that is not one (a beam released above a plate it attracts)
+// is first solved at fixed t_start by Newton, and that state is reported as a step with dt = 0.
+bool ArcLength::start_in_equilibrium(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
+                                     const StepCallback& on_step, ContinuationResult& res) {
+  sys.evaluate(q, t_, false);
+  const double r0 = sys.residual().norm();
+  if (sys.invalid_state().empty() && r0 <= std::max(newton_.tol_relative * sys.residual_scale(), newton_.tol_absolute))
+    return true;
+  const NewtonReport newton = newton_solve(sys, q, t_, newton_, solver);
+  res.total_iterations += newton.iterations;
+  if (!newton.converged) {
+    sys.reject();
+    res.outcome = Outcome::failed;
+    res.message = "no equilibrium at the start t = " + format_number(t_) + ": " + newton.failure;
+    return false;
+  }
+  sys.accept(q, t_);
+  StepReport report;
+  report.step = steps_ = res.steps = 1;
+  report.t = t_;
+  report.iterations = newton.iterations;
+  report.residual_norm = newton.residual_norm;
+  report.history = newton.history;
+  report.negative_eigenvalues = newton.negative_eigenvalues;
+  if (on_step && !on_step(report, q)) {
+    res.outcome = Outcome::stopped;
+    res.message = "stopped by the step callback at the start";
+    return false;
+  }
+  return true;
+}
+
 ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                                   const StepCallback& on_step) {
   if (q.size() != sys.size()) throw std::invalid_argument("ArcLength::run: q has the wrong size");
@@ -400,6 +432,7 @@ ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, Line
   ContinuationResult res;
   res.t_reached = t_;
   res.steps = steps_;
+  if (!restored_ && !start_in_equilibrium(sys, q, solver, on_step, res)) return res;
   Tangent tangent;
   for (bool have_tangent = false;;) {
     if (res.steps >= ac.max_steps) {
