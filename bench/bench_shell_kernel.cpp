@@ -31,7 +31,7 @@ PointData make_point(int nen) {
 void BM_ShellPointResidualTangent(benchmark::State& state) {
   const int nen = static_cast<int>(state.range(0));
   const PointData d = make_point(nen);
-  const fibrane::shell::ShellSection section{1.0e5, 0.3, 0.01};
+  const fibrane::shell::ShellSection section = fibrane::shell::ShellSection::svk(1.0e5, 0.3, 0.01);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(3 * nen);
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(3 * nen, 3 * nen);
   double energy = 0.0;
@@ -47,7 +47,7 @@ BENCHMARK(BM_ShellPointResidualTangent)->Arg(9)->Arg(16)->Arg(25)->Unit(benchmar
 void BM_ShellPointResidualOnly(benchmark::State& state) {
   const int nen = static_cast<int>(state.range(0));
   const PointData d = make_point(nen);
-  const fibrane::shell::ShellSection section{1.0e5, 0.3, 0.01};
+  const fibrane::shell::ShellSection section = fibrane::shell::ShellSection::svk(1.0e5, 0.3, 0.01);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(3 * nen);
   double energy = 0.0;
   for (auto _ : state) {

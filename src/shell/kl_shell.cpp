@@ -1,5 +1,6 @@
 // Point kernel of the Kirchhoff-Love shell: energy (Eqs. 25-29), internal virtual work (Eqs. 28, 30, 31)
-// and its linearization (Appendix A), in covariant components.
+// and its linearization (Appendix A), in covariant components. The material (material.hpp) gives the
+// energy density, N, M and the blocks dN/de, dN/dk, dM/de, dM/dk; the kernel adds the geometry.
 //
 // Derivation used here (checked against Eqs. 30, 31 and A8; the sign of the DeltaGamma term in Eq. A3 is a
 // typo, A8 is right). For control point A with basis derivatives R_aA, R_abA:
@@ -10,9 +11,15 @@
 //   d2b_ab/du_A du_B = -c_abA v_B n^T - c_abB n v_A^T - b_ab (v_A . v_B) n n^T  (Eq. A8 regrouped)
 // where v_A := R_1A g^1 + R_2A g^2. The five terms of A8 collapse into these three because the terms with
 // and without Christoffel symbols share the factor c_ab, and g^cd R_cA R_dB = v_A . v_B.
+//
+// Material part of block (A, B) (Eq. A1 with a general material), m_A := de/du_A (3 x 3, columns per
+// strain), dk/du_A = c_A n^T:
+//   m_A dN/de m_B^T + (c_A . dM/dk c_B) n n^T + m_A dN/dk c_B n^T + n (dM/de^T c_A)^T m_B^T,
+// the last two (membrane-bending coupling) only for materials whose cross blocks do not vanish.
 #include <stdexcept>
 
 #include "shell/kl_shell.hpp"
+#include "shell/material.hpp"
 #include "shell/surface_metric.hpp"
 
 // Portable binaries with a fast path: GCC compiles the kernel twice and picks the AVX2 version at load
@@ -81,20 +88,15 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
                      const Eigen::Matrix3Xd& x, double weight, double* energy, Eigen::VectorXd* residual,
                      ElementTangent* tangent) {
   check_sizes(R, X, x, residual, tangent ? tangent->nodes() : -1);
+  if (!s.material) throw std::invalid_argument("add_shell_point: the section has no material");
   const SurfaceMetric ref = surface_metric(R, X);
   const SurfaceMetric cur = surface_metric(R, x);
   const double scale = weight * ref.area_jacobian;  // dA = J_S dtheta1 dtheta2 (Eq. 28)
-  const double h = s.thickness;
-  const Eigen::Matrix3d D = plane_stress_matrix(s, ref.inverse_metric);
-  const Eigen::Matrix3d Dm = h * D;                     // membrane stiffness, Eq. 29
-  const Eigen::Matrix3d Db = (h * h * h / 12.0) * D;    // bending stiffness, Eq. 29
-  const Eigen::Vector3d e = membrane_strain(cur, ref);  // (E11, E22, 2E12)
-  const Eigen::Vector3d k = curvature_change(cur, ref);  // (K11, K22, 2K12)
-  const Eigen::Vector3d N = Dm * e;                     // (N^11, N^22, N^12)
-  const Eigen::Vector3d M = Db * k;                     // (M^11, M^22, M^12)
+  const SectionResponse material = s.material->respond(ref, cur, s.thickness, tangent != nullptr);
+  const Eigen::Vector3d& N = material.N;  // (N^11, N^22, N^12), Eqs. 28, 29
+  const Eigen::Vector3d& M = material.M;  // (M^11, M^22, M^12)
 
-  // Energy density (h/2) E:C:E + (h^3/24) K:C:K (Eq. 25 integrated through the thickness).
-  if (energy) *energy += scale * 0.5 * (e.dot(N) + k.dot(M));
+  if (energy) *energy += scale * material.energy;  // Eq. 25 integrated through the thickness
   if (!residual && !tangent) return;
 
   const Eigen::Vector3d& n = cur.normal;
@@ -143,8 +145,15 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
     //   material part dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1), the bending part along n n^T;
     //   geometric part N^ab d2E_ab (Eq. A2): an isotropic block;
     //   geometric part M^ab d2b_ab (Eq. A8 regrouped): -b_ab (v_A . v_B) n n^T - c_abA v_B n^T - c_abB n v_A^T.
-    const Eigen::Matrix3d ms = scale * a.membrane * Dm;  // ms(i, k) = scale d(N^k)/du_A,i
-    const Eigen::Vector3d bs = scale * (Db * a.bending);
+    const Eigen::Matrix3d ms = scale * a.membrane * material.dN_de;  // ms(i, k) = scale d(N^k)/du_A,i via e
+    const Eigen::Vector3d bs = scale * (material.dM_dk * a.bending);
+    // Coupling (Eq. A1, cross blocks): row-node factors of m_B (by n_i) and of c_B (by n_j).
+    Eigen::Vector3d bm = Eigen::Vector3d::Zero();  // bm(k) = scale d(N^k)/du_A . n via k
+    Eigen::Matrix3d mb = Eigen::Matrix3d::Zero();  // mb(i, l) = scale d(M^l)/du_A,i via e
+    if (material.coupled) {
+      bm = scale * (material.dM_de.transpose() * a.bending);
+      mb = scale * a.membrane * material.dN_dk;
+    }
     const double va[3] = {c.v[0][A], c.v[1][A], c.v[2][A]};
     const double mv[3] = {scale * moment_curvature * va[0], scale * moment_curvature * va[1],
                           scale * moment_curvature * va[2]};
@@ -160,7 +169,7 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
         const double nn = n[i] * n[j];
         const double by_v = -scale * a.moment_work * n[j];  // times v_B,i
         const double by_moment = -scale * n[i] * va[j];     // times M^ab c_abB
-        const double ms0 = ms(i, 0), ms1 = ms(i, 1), ms2 = ms(i, 2);
+        const double ms0 = ms(i, 0) + n[i] * bm[0], ms1 = ms(i, 1) + n[i] * bm[1], ms2 = ms(i, 2) + n[i] * bm[2];
         double* __restrict out = tangent->row(A, i, j);
         const double* __restrict m0 = c.membrane[0][j];
         const double* __restrict m1 = c.membrane[1][j];
@@ -169,6 +178,13 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
         const double* __restrict mw = c.moment_work;
         for (int B = A; B < nen; ++B)
           out[B] += ms0 * m0[B] + ms1 * m1[B] + ms2 * m2[B] + nn * normal[B] + by_v * vi[B] + by_moment * mw[B];
+        if (material.coupled) {
+          const double mb0 = n[j] * mb(i, 0), mb1 = n[j] * mb(i, 1), mb2 = n[j] * mb(i, 2);
+          const double* __restrict c0 = c.bending[0];
+          const double* __restrict c1 = c.bending[1];
+          const double* __restrict c2 = c.bending[2];
+          for (int B = A; B < nen; ++B) out[B] += mb0 * c0[B] + mb1 * c1[B] + mb2 * c2[B];
+        }
         if (i == j)
           for (int B = A; B < nen; ++B) out[B] += isotropic[B];
       }
