@@ -4,6 +4,8 @@
 #include <filesystem>
 
 #include "common/error.hpp"
+#include "io/yaml_parameters.hpp"
+#include "shell/material.hpp"
 
 #include "model/case_conditions.hpp"
 #include "model/case_geometry.hpp"
@@ -44,9 +46,8 @@ void read_shell(Model& m, const io::YamlNode& node) {
   shell::ShellSection section;
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
-  section.young = mat["young"].positive();
-  section.poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
-  mat.reject_unknown_keys();
+  const std::string model = mat.get("model", "svk");
+  section.material = shell::material_registry().make(model, io::YamlParameters(mat, {"model"}));
   ShellBody body(name, std::move(surface), section);
   if (auto g = node.optional("gauss_points")) {
     body.gauss_points[0] = body.gauss_points[1] = g->positive_int();
