@@ -62,6 +62,88 @@ void check_sizes(const BasisDerivs& R, const Eigen::Matrix3Xd& X, const Eigen::M
     throw std::invalid_argument("add_shell_point: tangent must have size 3 nen x 3 nen");
 }
 
+// The tangent's material and geometric parts for every node pair B >= A (Appendix A), accumulated into
+// `tangent`. kCoupled adds the membrane-bending coupling blocks; the uncoupled instance (SVK) carries no
+// trace of them. Always inlined, so that it is compiled for each target of add_shell_point.
+template <bool kCoupled>
+[[gnu::always_inline]] inline void accumulate_tangent(const NodeTerms* nodes, int nen, const SurfaceMetric& cur,
+                                                      double scale, const SectionResponse& material,
+                                                      ElementTangent& tangent) {
+  // Local copies: `material` was written through a pointer, so its members would be reloaded after every
+  // store into the tangent.
+  const Eigen::Vector3d N = material.N, M = material.M;
+  const Eigen::Matrix3d dN_de = material.dN_de, dM_dk = material.dM_dk;
+  Eigen::Matrix3d dN_dk, dM_de;
+  if constexpr (kCoupled) dN_dk = material.dN_dk, dM_de = material.dM_de;
+  const Eigen::Vector3d& n = cur.normal;
+  ColumnTerms c;
+  for (int B = 0; B < nen; ++B) {
+    const NodeTerms& t = nodes[B];
+    c.r1[B] = t.r1;
+    c.r2[B] = t.r2;
+    for (int a = 0; a < 3; ++a) {
+      for (int j = 0; j < 3; ++j) c.membrane[a][j][B] = t.membrane(j, a);
+      c.bending[a][B] = t.bending[a];
+      c.v[a][B] = t.r1 * cur.dual1[a] + t.r2 * cur.dual2[a];
+    }
+    c.moment_work[B] = t.moment_work;
+  }
+  // Moment-weighted curvature M^ab b_ab of the second variation of b_ab (Voigt factor 2 on 12).
+  const double moment_curvature = M[0] * cur.curvature[0] + M[1] * cur.curvature[1] +
+                                  2.0 * M[2] * cur.curvature[2];
+  double normal[kMaxShellNodes] = {}, isotropic[kMaxShellNodes] = {};
+  for (int A = 0; A < nen; ++A) {
+    const NodeTerms& a = nodes[A];
+    // Row-node factors of block (A, B), each times `scale`:
+    //   material part dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1), the bending part along n n^T;
+    //   geometric part N^ab d2E_ab (Eq. A2): an isotropic block;
+    //   geometric part M^ab d2b_ab (Eq. A8 regrouped): -b_ab (v_A . v_B) n n^T - c_abA v_B n^T - c_abB n v_A^T.
+    Eigen::Matrix3d ms = scale * a.membrane * dN_de;  // ms(i, k) = scale d(N^k)/du_A,i via e
+    const Eigen::Vector3d bs = scale * (dM_dk * a.bending);
+    // Coupling (Eq. A1, cross blocks): n (dM/de^T c_A)^T joins the factors of m_B; mb(i, l) = scale
+    // (m_A dN/dk)(i, l) multiplies c_B,l n_j.
+    Eigen::Matrix3d mb;
+    if constexpr (kCoupled) {
+      ms.noalias() += n * (scale * (dM_de.transpose() * a.bending)).transpose();
+      mb.noalias() = scale * a.membrane * dN_dk;
+    }
+    const double va[3] = {c.v[0][A], c.v[1][A], c.v[2][A]};
+    const double mv[3] = {scale * moment_curvature * va[0], scale * moment_curvature * va[1],
+                          scale * moment_curvature * va[2]};
+    const double p1 = scale * (N[0] * a.r1 + N[2] * a.r2), p2 = scale * (N[1] * a.r2 + N[2] * a.r1);
+    // The scalar factors of n n^T and of the identity for every column node B >= A, once per row node.
+    for (int B = A; B < nen; ++B) {
+      normal[B] = bs[0] * c.bending[0][B] + bs[1] * c.bending[1][B] + bs[2] * c.bending[2][B] -
+                  (mv[0] * c.v[0][B] + mv[1] * c.v[1][B] + mv[2] * c.v[2][B]);
+      isotropic[B] = p1 * c.r1[B] + p2 * c.r2[B];
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double nn = n[i] * n[j];
+        const double by_v = -scale * a.moment_work * n[j];  // times v_B,i
+        const double by_moment = -scale * n[i] * va[j];     // times M^ab c_abB
+        const double ms0 = ms(i, 0), ms1 = ms(i, 1), ms2 = ms(i, 2);
+        double* __restrict out = tangent.row(A, i, j);
+        const double* __restrict m0 = c.membrane[0][j];
+        const double* __restrict m1 = c.membrane[1][j];
+        const double* __restrict m2 = c.membrane[2][j];
+        const double* __restrict vi = c.v[i];
+        const double* __restrict mw = c.moment_work;
+        for (int B = A; B < nen; ++B)
+          out[B] += ms0 * m0[B] + ms1 * m1[B] + ms2 * m2[B] + nn * normal[B] + by_v * vi[B] + by_moment * mw[B];
+        if constexpr (kCoupled) {
+          const double mb0 = n[j] * mb(i, 0), mb1 = n[j] * mb(i, 1), mb2 = n[j] * mb(i, 2);
+          const double* __restrict c0 = c.bending[0];
+          const double* __restrict c1 = c.bending[1];
+          const double* __restrict c2 = c.bending[2];
+          for (int B = A; B < nen; ++B) out[B] += mb0 * c0[B] + mb1 * c1[B] + mb2 * c2[B];
+        }
+        if (i == j)
+          for (int B = A; B < nen; ++B) out[B] += isotropic[B];
+      }
+  }
+}
+
 }  // namespace
 
 void ElementTangent::reset(int nen) {
@@ -93,8 +175,10 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
   const SurfaceMetric cur = surface_metric(R, x);
   const double scale = weight * ref.area_jacobian;  // dA = J_S dtheta1 dtheta2 (Eq. 28)
   const SectionResponse material = s.material->respond(ref, cur, s.thickness, tangent != nullptr);
-  const Eigen::Vector3d& N = material.N;  // (N^11, N^22, N^12), Eqs. 28, 29
-  const Eigen::Vector3d& M = material.M;  // (M^11, M^22, M^12)
+  // Local copies: `material` was written through a pointer, so its members would be reloaded after every
+  // store into the residual.
+  const Eigen::Vector3d N = material.N;  // (N^11, N^22, N^12), Eqs. 28, 29
+  const Eigen::Vector3d M = material.M;  // (M^11, M^22, M^12)
 
   if (energy) *energy += scale * material.energy;  // Eq. 25 integrated through the thickness
   if (!residual && !tangent) return;
@@ -122,73 +206,10 @@ FIBRANE_SIMD_CLONES void add_shell_point(const ShellSection& s, const BasisDeriv
     if (residual) residual->segment<3>(3 * A) += scale * (t.membrane * N + t.moment_work * n);
   }
   if (!tangent) return;
-
-  ColumnTerms c;
-  for (int B = 0; B < nen; ++B) {
-    const NodeTerms& t = nodes[B];
-    c.r1[B] = t.r1;
-    c.r2[B] = t.r2;
-    for (int a = 0; a < 3; ++a) {
-      for (int j = 0; j < 3; ++j) c.membrane[a][j][B] = t.membrane(j, a);
-      c.bending[a][B] = t.bending[a];
-      c.v[a][B] = t.r1 * cur.dual1[a] + t.r2 * cur.dual2[a];
-    }
-    c.moment_work[B] = t.moment_work;
-  }
-  // Moment-weighted curvature M^ab b_ab of the second variation of b_ab (Voigt factor 2 on 12).
-  const double moment_curvature = M[0] * cur.curvature[0] + M[1] * cur.curvature[1] +
-                                  2.0 * M[2] * cur.curvature[2];
-  double normal[kMaxShellNodes] = {}, isotropic[kMaxShellNodes] = {};
-  for (int A = 0; A < nen; ++A) {
-    const NodeTerms& a = nodes[A];
-    // Row-node factors of block (A, B), each times `scale`:
-    //   material part dN/du_A . dE/du_B + dM/du_A . dK/du_B (Eq. A1), the bending part along n n^T;
-    //   geometric part N^ab d2E_ab (Eq. A2): an isotropic block;
-    //   geometric part M^ab d2b_ab (Eq. A8 regrouped): -b_ab (v_A . v_B) n n^T - c_abA v_B n^T - c_abB n v_A^T.
-    const Eigen::Matrix3d ms = scale * a.membrane * material.dN_de;  // ms(i, k) = scale d(N^k)/du_A,i via e
-    const Eigen::Vector3d bs = scale * (material.dM_dk * a.bending);
-    // Coupling (Eq. A1, cross blocks): row-node factors of m_B (by n_i) and of c_B (by n_j).
-    Eigen::Vector3d bm = Eigen::Vector3d::Zero();  // bm(k) = scale d(N^k)/du_A . n via k
-    Eigen::Matrix3d mb = Eigen::Matrix3d::Zero();  // mb(i, l) = scale d(M^l)/du_A,i via e
-    if (material.coupled) {
-      bm = scale * (material.dM_de.transpose() * a.bending);
-      mb = scale * a.membrane * material.dN_dk;
-    }
-    const double va[3] = {c.v[0][A], c.v[1][A], c.v[2][A]};
-    const double mv[3] = {scale * moment_curvature * va[0], scale * moment_curvature * va[1],
-                          scale * moment_curvature * va[2]};
-    const double p1 = scale * (N[0] * a.r1 + N[2] * a.r2), p2 = scale * (N[1] * a.r2 + N[2] * a.r1);
-    // The scalar factors of n n^T and of the identity for every column node B >= A, once per row node.
-    for (int B = A; B < nen; ++B) {
-      normal[B] = bs[0] * c.bending[0][B] + bs[1] * c.bending[1][B] + bs[2] * c.bending[2][B] -
-                  (mv[0] * c.v[0][B] + mv[1] * c.v[1][B] + mv[2] * c.v[2][B]);
-      isotropic[B] = p1 * c.r1[B] + p2 * c.r2[B];
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        const double nn = n[i] * n[j];
-        const double by_v = -scale * a.moment_work * n[j];  // times v_B,i
-        const double by_moment = -scale * n[i] * va[j];     // times M^ab c_abB
-        const double ms0 = ms(i, 0) + n[i] * bm[0], ms1 = ms(i, 1) + n[i] * bm[1], ms2 = ms(i, 2) + n[i] * bm[2];
-        double* __restrict out = tangent->row(A, i, j);
-        const double* __restrict m0 = c.membrane[0][j];
-        const double* __restrict m1 = c.membrane[1][j];
-        const double* __restrict m2 = c.membrane[2][j];
-        const double* __restrict vi = c.v[i];
-        const double* __restrict mw = c.moment_work;
-        for (int B = A; B < nen; ++B)
-          out[B] += ms0 * m0[B] + ms1 * m1[B] + ms2 * m2[B] + nn * normal[B] + by_v * vi[B] + by_moment * mw[B];
-        if (material.coupled) {
-          const double mb0 = n[j] * mb(i, 0), mb1 = n[j] * mb(i, 1), mb2 = n[j] * mb(i, 2);
-          const double* __restrict c0 = c.bending[0];
-          const double* __restrict c1 = c.bending[1];
-          const double* __restrict c2 = c.bending[2];
-          for (int B = A; B < nen; ++B) out[B] += mb0 * c0[B] + mb1 * c1[B] + mb2 * c2[B];
-        }
-        if (i == j)
-          for (int B = A; B < nen; ++B) out[B] += isotropic[B];
-      }
-  }
+  if (material.coupled)
+    accumulate_tangent<true>(nodes, nen, cur, scale, material, *tangent);
+  else
+    accumulate_tangent<false>(nodes, nen, cur, scale, material, *tangent);
 }
 
 void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::Matrix3Xd& X,
