@@ -85,8 +85,9 @@ INSTANTIATE_TEST_SUITE_P(Patches, ShellKernelMaterials,
                                            Case{3, 3, true, 0.45, 0.55}),
                          [](const ::testing::TestParamInfo<Case>& info) {
                            const Case& c = info.param;
-                           return "p" + std::to_string(c.p) + "q" + std::to_string(c.q) +
-                                  (c.rational ? "_rational" : "_polynomial");
+                           std::string name = "p";  // appended, not "p" + ...: GCC 12 -Wrestrict false positive
+                           name += std::to_string(c.p) + "q" + std::to_string(c.q);
+                           return name + (c.rational ? "_rational" : "_polynomial");
                          });
 
 }  // namespace
