@@ -47,7 +47,9 @@ void read_shell(Model& m, const io::YamlNode& node) {
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
   const std::string model = mat.get("model", "svk");
-  section.material = shell::material_registry().make(model, io::YamlParameters(mat, {"model"}));
+  const auto& materials = shell::material_registry();
+  if (!materials.find(model)) mat["model"].fail("one of " + materials.names_text());
+  section.material = materials.make(model, io::YamlParameters(mat, {"model"}));
   ShellBody body(name, std::move(surface), section);
   if (auto g = node.optional("gauss_points")) {
     body.gauss_points[0] = body.gauss_points[1] = g->positive_int();
