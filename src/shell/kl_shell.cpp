@@ -69,10 +69,12 @@ template <bool kCoupled>
 [[gnu::always_inline]] inline void accumulate_tangent(const NodeTerms* nodes, int nen, const SurfaceMetric& cur,
                                                       double scale, const SectionResponse& material,
                                                       ElementTangent& tangent) {
-  // Stores go only to `tangent` (restrict) and to local arrays, so `material` is read in place.
-  const Eigen::Vector3d &N = material.N, &M = material.M;
-  const Eigen::Matrix3d &dN_de = material.dN_de, &dM_dk = material.dM_dk;
-  const Eigen::Matrix3d &dN_dk = material.dN_dk, &dM_de = material.dM_de;
+  // Local copies: `material` was written through a pointer, so its members would be reloaded after every
+  // store into the tangent.
+  const Eigen::Vector3d N = material.N, M = material.M;
+  const Eigen::Matrix3d dN_de = material.dN_de, dM_dk = material.dM_dk;
+  Eigen::Matrix3d dN_dk, dM_de;
+  if constexpr (kCoupled) dN_dk = material.dN_dk, dM_de = material.dM_de;
   const Eigen::Vector3d& n = cur.normal;
   ColumnTerms c;
   for (int B = 0; B < nen; ++B) {
