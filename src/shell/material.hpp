@@ -57,8 +57,8 @@ class SvkMaterial final : public ShellMaterial {
   SvkMaterial(double young, double poisson);
   SectionResponse respond(const SurfaceMetric& reference, const SurfaceMetric& current, double thickness,
                           bool tangent) const override;
-  double young() const { return young_; }
-  double poisson() const { return poisson_; }
+  double young() const { return young_; }      // E
+  double poisson() const { return poisson_; }  // nu
 
  private:
   double young_, poisson_;
@@ -80,6 +80,7 @@ struct PlaneStressPoint {
 // dN/dk = dM/de = int zeta D, dM/dk = int zeta^2 D (equations (T1)-(T3) in neo_hookean.cpp).
 class ThicknessIntegratedMaterial : public ShellMaterial {
  public:
+  // (T1)-(T3) summed over the thickness points; `coupled` is always true.
   SectionResponse respond(const SurfaceMetric& reference, const SurfaceMetric& current, double thickness,
                           bool tangent) const final;
   // The plane-stress state for the in-plane right Cauchy-Green tensor C_ab = G_ab + 2 E_ab (covariant,
@@ -87,6 +88,7 @@ class ThicknessIntegratedMaterial : public ShellMaterial {
   // positive definite or the plane-stress condition has no solution.
   virtual PlaneStressPoint plane_stress(const Eigen::Matrix2d& C, const Eigen::Matrix2d& G,
                                         const Eigen::Matrix2d& Ginv) const = 0;
+  // Number of Gauss-Legendre points through the thickness.
   int thickness_points() const { return static_cast<int>(points_.size()); }
 
  protected:
@@ -106,8 +108,8 @@ class NeoHookeanMaterial final : public ThicknessIntegratedMaterial {
   NeoHookeanMaterial(double young, double poisson, int thickness_points);
   PlaneStressPoint plane_stress(const Eigen::Matrix2d& C, const Eigen::Matrix2d& G,
                                 const Eigen::Matrix2d& Ginv) const override;
-  double mu() const { return mu_; }
-  double lambda() const { return lambda_; }
+  double mu() const { return mu_; }          // shear modulus
+  double lambda() const { return lambda_; }  // Lame's first constant (3-D)
 
  private:
   double mu_, lambda_;
@@ -121,7 +123,7 @@ class IncompressibleNeoHookeanMaterial final : public ThicknessIntegratedMateria
   IncompressibleNeoHookeanMaterial(double shear_modulus, int thickness_points);
   PlaneStressPoint plane_stress(const Eigen::Matrix2d& C, const Eigen::Matrix2d& G,
                                 const Eigen::Matrix2d& Ginv) const override;
-  double mu() const { return mu_; }
+  double mu() const { return mu_; }  // shear modulus
 
  private:
   double mu_;

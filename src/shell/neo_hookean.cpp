@@ -2,8 +2,10 @@
 // material.hpp).
 //
 // Kinematics at the thickness coordinate zeta in [-h/2, h/2] (Kirchhoff-Love, shifter neglected as in
-// Eq. 29 and [K15]): the in-plane Green-Lagrange strain and right Cauchy-Green tensor, w.r.t. G^a x G^b,
+// Eq. 29): the in-plane Green-Lagrange strain and right Cauchy-Green tensor, w.r.t. G^a x G^b,
 //   E_ab(zeta) = e_ab + zeta k_ab,   C_ab = G_ab + 2 E_ab(zeta),   C_a3 = 0,  C33 = lambda_3^2,      (T1)
+// (Eq. 24 writes the strain with -zeta; zeta -> -zeta maps the symmetric thickness interval and Gauss rule
+// onto themselves, so Psi(e, k) below, and with it every section quantity, is the same.)
 // with the reference midsurface metric G_ab and the unit normal as third base vector (G^33 = 1). C^ab is
 // the inverse of C_ab, so (C^-1)^ab = C^ab and (C^-1)^33 = 1/C33. Section quantities (Eq. 28):
 //   Psi = int psi dzeta,  N = int S dzeta,  M = int zeta S dzeta,                                  (T2)
