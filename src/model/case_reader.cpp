@@ -190,7 +190,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   }
   if (node->has("reuse_factorization"))
     run.newton.reuse_below = (*node)["reuse_factorization"].in_range(0.0, 1.0, false, true);
-  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
+  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();
 }
