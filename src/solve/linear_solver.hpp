@@ -49,4 +49,12 @@ class LinearSolver {
 // "mumps" without MUMPS in the build is an InputError too.
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric);
 
+// Bounds every thread pool the solvers and the assembly use to n threads (n <= 0: no change): OpenMP's
+// (omp_set_num_threads) and OpenBLAS's (openblas_set_num_threads, found at run time, so any BLAS
+// links), which CHOLMOD and MUMPS call. `fibrane run --threads N` calls it.
+void set_thread_count(int n);
+
+// OpenBLAS's current thread count (openblas_get_num_threads), or -1 if the BLAS is not OpenBLAS.
+int blas_thread_count();
+
 }  // namespace fibrane::solve
