@@ -3,6 +3,7 @@
 // suitesparse_solvers.cpp) and MUMPS (mumps_solver.cpp, built with FIBRANE_MUMPS). make_linear_solver()
 // combines them for the case files' kinds; benchmarks and tests use them directly.
 #include <memory>
+#include <vector>
 
 #include "solve/linear_solver.hpp"
 
@@ -17,6 +18,11 @@ std::unique_ptr<LinearSolver> make_cholmod_llt();
 // no pivot is zero). Name "ldlt"; negative_eigenvalues() counts the negative entries of D.
 std::unique_ptr<LinearSolver> make_cholmod_ldlt();
 
+// The pivot order of the last analysis of a solver from make_cholmod_llt() or make_cholmod_ldlt()
+// (order[k] = the row and column of the matrix that is the k-th pivot: the fill-reducing ordering and
+// CHOLMOD's postordering); empty for other solvers or before an analysis.
+std::vector<int> cholmod_pivot_order(const LinearSolver& solver);
+
 // UMFPACK LU (any square matrix). Name "umfpack"; negative_eigenvalues() is -1 (LU gives no inertia).
 std::unique_ptr<LinearSolver> make_umfpack();
 
@@ -29,6 +35,9 @@ struct MumpsOptions {
   // (the solution's error grows with the tolerance). Off by default.
   bool low_rank = false;
   double low_rank_tolerance = 1e-10;
+  // A pivot order (as cholmod_pivot_order gives it), used instead of `ordering` (ICNTL(7) = 1) by the
+  // analyses of matrices of its size; empty: `ordering`.
+  std::vector<int> pivot_order;
 };
 
 // True when fibrane was built with MUMPS (FIBRANE_MUMPS, the default).

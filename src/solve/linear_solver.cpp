@@ -14,13 +14,19 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// Tries LL^T first at every factorisation, then a symmetric indefinite factorisation. An indefinite
-// tangent is often a single wild Newton iterate: on the bending example at 300 x 75 x 75 only the first
-// update of the first step was indefinite, and staying on LU afterwards cost 4.5 s per iteration against
-// 1.9 s for LL^T (a failed LL^T attempt cost 1.1 s there, as CHOLMOD stops at the first non-positive
-// pivot). The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS (it gives the inertia at
-// any size; its failure means a numerically singular matrix, which is final). Without MUMPS it is
-// CHOLMOD's simplicial LDL^T up to kSimplicialLimit unknowns, then UMFPACK's LU (no inertia): the
+// LL^T first, then a symmetric indefinite factorisation. An indefinite tangent is often a single wild
+// Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
+// indefinite, and staying on LU afterwards cost 4.5 s per iteration against 1.9 s for LL^T. Past a limit
+// point, though, every tangent is indefinite, and a failed LL^T attempt costs up to a factorisation (CHOLMOD
+// stops at the first non-positive pivot, which for a few negative eigenvalues comes late). So after a
+// matrix that the fallback found indefinite, the next one goes to the fallback first, and LL^T is first
+// again once the fallback finds a matrix positive definite (negative_eigenvalues() == 0).
+// The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS: it gives the inertia at any size,
+// its analysis takes the pivot order of CHOLMOD's (METIS or AMD, already computed for LL^T; on the
+// bending example at 155 k unknowns MUMPS's own choice, AMF, took 3-4 times CHOLMOD's whole analysis and
+// gave 7 % more factor entries, 73.2 M against 68.3 M), and
+// its failure means a numerically singular matrix, which is final. Without MUMPS it is CHOLMOD's simplicial
+// LDL^T up to kSimplicialLimit unknowns, then UMFPACK's LU (no inertia, so never tried first): the
 // simplicial LDL^T has no BLAS-3 kernels (on the bending example at 400 x 100 x 100, 273 k unknowns, one
 // factorisation did not finish in 10 minutes), and without pivoting it can fail where LU does not. The
 // fallbacks keep their symbolic analysis until the next analyze().
@@ -35,10 +41,26 @@ class AutoSolver final : public LinearSolver {
   }
   bool factorize(const SpMat& a) override {
     if (!llt_) analyze(a);
-    current_ = llt_.get();
-    if (llt_->factorize(a)) return true;
+    if (!fallback_first_) {
+      current_ = llt_.get();
+      if (llt_->factorize(a)) return true;
+    }
+    const bool ok = factorize_fallback(a);
+    fallback_first_ = ok && current_->negative_eigenvalues() > 0;
+    return ok;
+  }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
+  std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
+  long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
+  std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
+  int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
+
+ private:
+  bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
-      fallback_ = mumps_available() ? make_mumps() : a.rows() > kSimplicialLimit ? make_umfpack() : make_cholmod_ldlt();
+      if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_)});
+      else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack();
+      else fallback_ = make_cholmod_ldlt();
       fallback_->analyze(a);
     }
     current_ = fallback_.get();
@@ -49,15 +71,10 @@ class AutoSolver final : public LinearSolver {
     current_ = fallback_.get();
     return fallback_->factorize(a);
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
-  std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
-  long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
-  std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
-  int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
 
- private:
   std::unique_ptr<LinearSolver> llt_, fallback_;
   LinearSolver* current_ = nullptr;
+  bool fallback_first_ = false;  // the last matrix was indefinite (by the fallback's count)
 };
 
 // For a model that cannot promise symmetry (point moments: Eq. (54)'s load stiffness is unsymmetric in

@@ -58,6 +58,7 @@ class MumpsSolver final : public LinearSolver {
       icntl(id_, 35) = 2;
       cntl(id_, 7) = options.low_rank_tolerance;
     }
+    pivot_order_ = options.pivot_order;
   }
   ~MumpsSolver() override {
     id_.job = -2;
@@ -79,6 +80,7 @@ class MumpsSolver final : public LinearSolver {
   std::vector<int> rows_, cols_;
   std::vector<Eigen::Index> positions_;
   std::vector<double> values_;
+  std::vector<int> pivot_order_, perm_in_;  // MumpsOptions::pivot_order; PERM_IN, its inverse (1-based)
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
   mutable DMUMPS_STRUC_C id_{};
   mutable std::vector<double> rhs_;
@@ -106,8 +108,17 @@ void MumpsSolver::analyze(const SpMat& a) {
   id_.irn = rows_.data();
   id_.jcn = cols_.data();
   id_.a = values_.data();
+  // PERM_IN(i) is the position of variable i in the pivot order (1-based): the inverse of pivot_order_.
+  const int ordering = icntl(id_, 7);
+  if (static_cast<Eigen::Index>(pivot_order_.size()) == n_) {
+    perm_in_.assign(pivot_order_.size(), 0);
+    for (size_t k = 0; k < pivot_order_.size(); ++k) perm_in_[static_cast<size_t>(pivot_order_[k])] = static_cast<int>(k) + 1;
+    id_.perm_in = perm_in_.data();
+    icntl(id_, 7) = 1;
+  }
   id_.job = 1;
   dmumps_c(&id_);
+  icntl(id_, 7) = ordering;
   analyzed_ = infog(id_, 1) >= 0;
   factored_ = false;
   ++analyses_;
@@ -156,7 +167,7 @@ long MumpsSolver::factor_nonzeros() const {
 // (INFOG(22)), or the analysis's estimate (INFOG(17)) before one.
 std::string MumpsSolver::analysis_summary() const {
   if (!analyzed_) return {};
-  static const char* const names[] = {"AMD", "user's", "AMF", "SCOTCH", "PORD", "METIS", "QAMD"};
+  static const char* const names[] = {"AMD", "the given order", "AMF", "SCOTCH", "PORD", "METIS", "QAMD"};
   const int ordering = infog(id_, 7);
   const std::string method = ordering >= 0 && ordering <= 6 ? names[ordering] : "ordering " + std::to_string(ordering);
   const int megabytes = factored_ ? infog(id_, 22) : infog(id_, 17);

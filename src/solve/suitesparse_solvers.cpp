@@ -67,6 +67,13 @@ class CholmodSolver final : public LinearSolver {
     return std::to_string(analyses_) + " with " + method;
   }
   int negative_eigenvalues() const override { return negative_; }
+  // cholmod_factor::Perm: Perm[k] is the k-th pivot.
+  std::vector<int> pivot_order() const {
+    const cholmod_factor* f = fact_.factor();
+    if (!f || !f->Perm) return {};
+    const auto* perm = static_cast<const int*>(f->Perm);
+    return std::vector<int>(perm, perm + f->n);
+  }
 
  private:
   mutable ReadableFactor<Factorization> fact_;
@@ -101,14 +108,19 @@ class UmfpackSolver final : public LinearSolver {
   Lu lu_;
 };
 
+using CholmodLLT = CholmodSolver<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>;
+using CholmodLDLT = CholmodSolver<Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower>>;
+
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_cholmod_llt() {
-  return std::make_unique<CholmodSolver<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>>("cholmod");
-}
+std::unique_ptr<LinearSolver> make_cholmod_llt() { return std::make_unique<CholmodLLT>("cholmod"); }
 
-std::unique_ptr<LinearSolver> make_cholmod_ldlt() {
-  return std::make_unique<CholmodSolver<Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower>>>("ldlt");
+std::unique_ptr<LinearSolver> make_cholmod_ldlt() { return std::make_unique<CholmodLDLT>("ldlt"); }
+
+std::vector<int> cholmod_pivot_order(const LinearSolver& solver) {
+  if (const auto* llt = dynamic_cast<const CholmodLLT*>(&solver)) return llt->pivot_order();
+  if (const auto* ldlt = dynamic_cast<const CholmodLDLT*>(&solver)) return ldlt->pivot_order();
+  return {};
 }
 
 std::unique_ptr<LinearSolver> make_umfpack() { return std::make_unique<UmfpackSolver>(); }

@@ -93,15 +93,27 @@ TEST(LinearSolver, CholeskyRejectsIndefiniteAndAutoFallsBack) {
   EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
-// One indefinite matrix (a wild Newton iterate) must not keep "auto" off the Cholesky factorisation.
+// One indefinite matrix (a wild Newton iterate) must not keep "auto" off the Cholesky factorisation: the
+// next matrix goes to the indefinite solver first, and once that finds it positive definite, LL^T is first
+// again. While matrices stay indefinite (past a limit point), they go to the indefinite solver directly.
 TEST(LinearSolver, AutoReturnsToCholeskyAfterAnIndefiniteMatrix) {
   const SpMat indefinite = grid_matrix(8, -1.3, 0.0), spd = grid_matrix(8, 0.1, 0.0);  // same pattern
+  const SpMat other_indefinite = grid_matrix(8, -2.1, 0.0);
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(spd);
   ASSERT_TRUE(automatic->factorize(indefinite));
   EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  const int negative = automatic->negative_eigenvalues();
+  EXPECT_GT(negative, 0);
+  ASSERT_TRUE(automatic->factorize(other_indefinite));
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  EXPECT_GT(automatic->negative_eigenvalues(), negative);  // a larger shift: more negative eigenvalues
+  ASSERT_TRUE(automatic->factorize(spd));
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  EXPECT_EQ(automatic->negative_eigenvalues(), 0);
   ASSERT_TRUE(automatic->factorize(spd));
   EXPECT_EQ(automatic->name(), "auto(cholmod)");
+  EXPECT_EQ(automatic->negative_eigenvalues(), 0);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
   EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());  // condition number < 1e3
 }
