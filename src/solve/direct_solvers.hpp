@@ -32,7 +32,9 @@ struct MumpsOptions {
   // (5, METIS, is not in Debian's sequential build.)
   int ordering = 7;
   // ICNTL(35) = 2 and CNTL(7) = low_rank_tolerance: block low-rank factorisation, an approximate factor
-  // (the solution's error grows with the tolerance). Off by default.
+  // (the solution's error grows with the tolerance). Off by default, and for experiments only: Debian's
+  // build crashed in its BLR analysis (SCOTCH) on the bending tangent at 155 k unknowns
+  // (docs/performance.md, "Symmetric indefinite solvers").
   bool low_rank = false;
   double low_rank_tolerance = 1e-10;
   // A pivot order (as cholmod_pivot_order gives it), used instead of `ordering` (ICNTL(7) = 1) by the
