@@ -22,14 +22,14 @@ using SpMat = Eigen::SparseMatrix<double>;
 // matrix that the fallback found indefinite, the next one goes to the fallback first, and LL^T is first
 // again once the fallback finds a matrix positive definite (negative_eigenvalues() == 0).
 // The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS: it gives the inertia at any size,
-// its analysis takes the pivot order of CHOLMOD's (METIS or AMD, already computed for LL^T; on the
-// bending example at 155 k unknowns MUMPS's own choice, AMF, took 3-4 times CHOLMOD's whole analysis and
-// gave 7 % more factor entries, 73.2 M against 68.3 M), and
-// its failure means a numerically singular matrix, which is final. Without MUMPS it is CHOLMOD's simplicial
-// LDL^T up to kSimplicialLimit unknowns, then UMFPACK's LU (no inertia, so never tried first): the
-// simplicial LDL^T has no BLAS-3 kernels (on the bending example at 400 x 100 x 100, 273 k unknowns, one
-// factorisation did not finish in 10 minutes), and without pivoting it can fail where LU does not. The
-// fallbacks keep their symbolic analysis until the next analyze().
+// its analysis takes CHOLMOD's pivot order (METIS or AMD, already computed for LL^T; on the bending
+// example at 155 k unknowns MUMPS's own choice, AMF, took 3-4 times CHOLMOD's whole analysis and gave 7 %
+// more factor entries, 73.2 M against 68.3 M), and its failure means a numerically singular matrix, which
+// is final. Without MUMPS it is CHOLMOD's simplicial LDL^T up to kSimplicialLimit unknowns, then
+// UMFPACK's LU (no inertia, so never tried first): the simplicial LDL^T has no BLAS-3 kernels (on the
+// bending example at 400 x 100 x 100, 273 k unknowns, one factorisation did not finish in 10 minutes),
+// and without pivoting it can fail where LU does not. The fallbacks keep their symbolic analysis until
+// the next analyze().
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;

@@ -39,9 +39,10 @@ class LinearSolver {
 
 // kind: "cholmod" (supernodal LL^T, symmetric positive definite), "ldlt" (CHOLMOD simplicial LDL^T,
 // symmetric indefinite without pivoting), "mumps" (MUMPS multifrontal LDL^T with pivoting, symmetric
-// indefinite; only if mumps_available()), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T, trying LL^T
-// first again at every factorisation; when it fails, mumps where available, otherwise ldlt up to 20 000
-// unknowns (larger ones skip the simplicial LDL^T) then umfpack. When symmetric == false "auto" checks
+// indefinite; only if mumps_available()), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T; when it
+// fails, mumps where available, otherwise ldlt up to 20 000 unknowns (larger ones skip the simplicial
+// LDL^T) then umfpack; after a matrix that mumps or ldlt found indefinite, the next goes to them first,
+// until they find one positive definite and LL^T is first again). When symmetric == false "auto" checks
 // every matrix against its transpose and takes that chain while the values are symmetric to round-off
 // (1e-12 of the largest entry), umfpack otherwise; the name then reads "symmetric-auto(...)" or
 // "umfpack").
