@@ -1,42 +1,160 @@
-// The sparse solver on a case's tangent at t = 0 (undeformed, after one evaluation):
-//   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]...
-// prints the time of a first symbolic analysis (fill-reducing ordering: CHOLMOD's choice), of a second one
-// (only the method that won the first), of the numeric factorisation and of a solve, for the solver the
-// case asks for as fibrane builds it (for a model with point moments: with the symmetry probe) and for the
-// symmetric chain alone (the difference is the probe's cost).
+// The sparse solvers on a case's tangent at t = 0 (undeformed, after one evaluation):
+//   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
+//                       [--rounds R]
+// KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, umfpack; "auto" as fibrane builds it for
+// the case, i.e. with the symmetry probe for a model with point moments), "symmetric-auto" (the symmetric
+// chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
+// mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
+// gives it to MUMPS). Default: auto and symmetric-auto.
+// --shift S factorises K - S d I instead of K, d the mean of K's diagonal (S > 0 makes it indefinite).
+// --rounds R: the solvers take turns R times (each round builds every solver afresh), so that a machine
+// shared with other jobs slows all of them alike; the table has each one's best and median.
+// Printed per solver: the first symbolic analysis, a second one (CHOLMOD: only the ordering method that
+// won the first), the numeric factorisation (wall, and the process's user and system CPU time), a solve,
+// the factor's non-zeros, the negative eigenvalues reported, the solve's backward error |K x - b| / (|K| |x| + |b|) (infinity norms), and the
+// peak resident memory the solver added to the process (VmHWM, reset before each solver, less the resident
+// size then; the largest over the rounds).
 #include <omp.h>
+#include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fmt/format.h>
+#include <fstream>
 #include <iostream>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
+#include "solve/direct_solvers.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace {
 
-double seconds(const auto& f) {
+using fibrane::solve::LinearSolver;
+
+// Wall, user and system seconds of a call.
+struct Times {
+  double wall = 0, user = 0, system = 0;
+};
+
+double seconds(const timeval& t) { return t.tv_sec + 1e-6 * t.tv_usec; }
+
+Times measure(const auto& f) {
+  rusage r0{}, r1{};
+  getrusage(RUSAGE_SELF, &r0);
   const auto t0 = std::chrono::steady_clock::now();
   f();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  getrusage(RUSAGE_SELF, &r1);
+  return {wall, seconds(r1.ru_utime) - seconds(r0.ru_utime), seconds(r1.ru_stime) - seconds(r0.ru_stime)};
+}
+
+// A field of /proc/self/status in MiB (VmRSS: resident now, VmHWM: its peak).
+double status_mib(const std::string& field) {
+  std::ifstream in("/proc/self/status");
+  std::string key;
+  double kib = 0;
+  while (in >> key)
+    if (key == field + ":") {
+      in >> kib;
+      break;
+    }
+  return kib / 1024;
+}
+
+// Resets VmHWM to the current resident size (Linux: writing 5 to /proc/self/clear_refs).
+void reset_peak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+// The solver of a --solver KIND. "mumps-cholmod" (MUMPS with CHOLMOD's pivot order, as "auto" makes it)
+// analyses `k` with CHOLMOD here, outside the times.
+std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const std::string& case_kind, bool symmetric,
+                                          const Eigen::SparseMatrix<double>& k) {
+  static const std::map<std::string, int> orderings = {
+      {"mumps-amd", 0}, {"mumps-amf", 2}, {"mumps-scotch", 3}, {"mumps-pord", 4}, {"mumps-qamd", 6}};
+  fibrane::solve::MumpsOptions options;
+  if (const auto it = orderings.find(kind); it != orderings.end()) {
+    options.ordering = it->second;
+    return fibrane::solve::make_mumps(options);
+  }
+  if (kind == "mumps-blr") {
+    options.low_rank = true;
+    return fibrane::solve::make_mumps(options);
+  }
+  if (kind == "mumps-cholmod") {
+    auto llt = fibrane::solve::make_cholmod_llt();
+    llt->analyze(k);
+    options.pivot_order = fibrane::solve::cholmod_pivot_order(*llt);
+    return fibrane::solve::make_mumps(options);
+  }
+  if (kind == "symmetric-auto") return fibrane::solve::make_linear_solver(case_kind, true);
+  if (kind == "auto") return fibrane::solve::make_linear_solver(case_kind, symmetric);
+  return fibrane::solve::make_linear_solver(kind, true);
+}
+
+struct Row {
+  std::string name, summary;
+  std::vector<double> first, second, factor_wall, factor_user, factor_system, solve, memory;
+  long factor_nonzeros = 0;
+  int negative = -1;
+  double residual = 0;
+  bool ok = true;
+};
+
+// One round for one solver: analyse twice, factorise, solve, appended to `row`.
+void run(Row& row, LinearSolver& solver, const Eigen::SparseMatrix<double>& k, const Eigen::VectorXd& b) {
+  bool ok = false;
+  Eigen::VectorXd x;
+  row.first.push_back(measure([&] { solver.analyze(k); }).wall);
+  row.second.push_back(measure([&] { solver.analyze(k); }).wall);
+  const Times f = measure([&] { ok = solver.factorize(k); });
+  row.factor_wall.push_back(f.wall);
+  row.factor_user.push_back(f.user);
+  row.factor_system.push_back(f.system);
+  row.solve.push_back(measure([&] { x = solver.solve(b); }).wall);
+  row.name = solver.name();
+  row.summary = solver.analysis_summary();
+  row.factor_nonzeros = solver.factor_nonzeros();
+  row.negative = solver.negative_eigenvalues();
+  row.ok = row.ok && ok;
+  // Normwise backward error |K x - b| / (|K| |x| + |b|) in the infinity norm (K holds both triangles).
+  const Eigen::VectorXd r = k * x - b;
+  const double k_norm = (k.cwiseAbs() * Eigen::VectorXd::Ones(k.cols())).maxCoeff();
+  row.residual = ok ? r.lpNorm<Eigen::Infinity>() / (k_norm * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>()) : 0.0;
+}
+
+// "best / median" of the rounds.
+std::string best_median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  if (v.size() == 1) return fmt::format("{:.3f}", v[0]);
+  return fmt::format("{:.3f} / {:.3f}", v.front(), v[v.size() / 2]);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::cerr << "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]...\n";
+    std::cerr << "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... "
+                 "[--shift S] [--rounds R]\n";
     return 2;
   }
   std::vector<std::pair<std::string, std::string>> edits;
-  for (int i = 2; i < argc; ++i)
-    if (!common_option(argc, argv, i, edits)) {
+  std::vector<std::string> kinds;
+  double shift = 0;
+  int rounds = 1;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--solver" && i + 1 < argc) kinds.emplace_back(argv[++i]);
+    else if (a == "--shift" && i + 1 < argc) shift = std::stod(argv[++i]);
+    else if (a == "--rounds" && i + 1 < argc) rounds = std::max(1, std::stoi(argv[++i]));
+    else if (!common_option(argc, argv, i, edits)) {
       std::cerr << "unknown argument " << argv[i] << "\n";
       return 2;
     }
+  }
+  if (kinds.empty()) kinds = {"auto", "symmetric-auto"};
   std::string path;
   try {
     path = edited_case(argv[1], edits);
@@ -47,22 +165,30 @@ int main(int argc, char** argv) {
   auto c = fibrane::casefile::read_case(path);
   auto& m = *c.model;
   m.evaluate(m.initial_unknowns(), 0.0, true);
-  const Eigen::SparseMatrix<double>& k = m.tangent();
+  Eigen::SparseMatrix<double> k = m.tangent();
+  const double mean_diagonal = k.diagonal().mean();
+  if (shift != 0) k.diagonal().array() -= shift * mean_diagonal;
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(k.rows());
-  fmt::print("case {}: {} unknowns, {} matrix non-zeros, {} threads\n", argv[1], k.rows(), k.nonZeros(),
-             omp_get_max_threads());
-  fmt::print("| solver | first analysis | second analysis | factorisation | solve | factor non-zeros | analyses |\n");
-  fmt::print("|---|---|---|---|---|---|---|\n");
-  for (const bool symmetric : {m.symmetric(), true}) {
-    auto solver = fibrane::solve::make_linear_solver(c.run.linear_solver, symmetric);
-    bool ok = false;
-    const double first = seconds([&] { solver->analyze(k); });
-    const double second = seconds([&] { solver->analyze(k); });
-    const double factor = seconds([&] { ok = solver->factorize(k); });
-    Eigen::VectorXd x;
-    const double solve = seconds([&] { x = solver->solve(b); });
-    fmt::print("| {}{} | {:.3f} s | {:.3f} s | {:.3f} s | {:.3f} s | {} | {} |\n", solver->name(), ok ? "" : " (failed)",
-               first, second, factor, solve, solver->factor_nonzeros(), solver->analysis_summary());
-  }
+  fmt::print("case {}: {} unknowns, {} matrix non-zeros, {} threads (BLAS {}), shift {} x mean diagonal {:.6g}\n",
+             argv[1], k.rows(), k.nonZeros(), omp_get_max_threads(), fibrane::solve::blas_thread_count(), shift,
+             mean_diagonal);
+  std::vector<Row> rows(kinds.size());
+  for (int round = 0; round < rounds; ++round)
+    for (size_t s = 0; s < kinds.size(); ++s) {
+      reset_peak();
+      const double resident = status_mib("VmRSS");
+      auto solver = make_solver(kinds[s], c.run.linear_solver, m.symmetric(), k);
+      run(rows[s], *solver, k, b);
+      rows[s].memory.push_back(status_mib("VmHWM") - resident);
+    }
+  fmt::print("times in s{}\n", rounds > 1 ? fmt::format(", best / median of {} rounds", rounds) : "");
+  fmt::print("| solver | first analysis | second analysis | factorisation wall | user | system | solve | "
+             "factor non-zeros | negative eigenvalues | backward error | peak memory [MiB] | analyses |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows)
+    fmt::print("| {}{} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} | {:.0f} | {} |\n", r.name,
+               r.ok ? "" : " (failed)", best_median(r.first), best_median(r.second), best_median(r.factor_wall),
+               best_median(r.factor_user), best_median(r.factor_system), best_median(r.solve), r.factor_nonzeros,
+               r.negative, r.residual, *std::max_element(r.memory.begin(), r.memory.end()), r.summary);
   return 0;
 }

@@ -1,8 +1,6 @@
 #pragma once
 // The bench programs' common options: `--threads N` and `--replace FROM TO` (a copy of a case file with
 // text replaced, to change the mesh of an example without editing it).
-#include <omp.h>
-
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,6 +8,8 @@
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "solve/linear_solver.hpp"
 
 // The path of the edited copy (in the temporary directory), or `path` itself without edits. Throws
 // std::runtime_error if a FROM is not in the file.
@@ -34,7 +34,7 @@ inline std::string edited_case(const std::string& path, const std::vector<std::p
 inline bool common_option(int argc, char** argv, int& i, std::vector<std::pair<std::string, std::string>>& edits) {
   const std::string a = argv[i];
   if (a == "--threads" && i + 1 < argc) {
-    omp_set_num_threads(std::stoi(argv[++i]));
+    fibrane::solve::set_thread_count(std::stoi(argv[++i]));  // OpenMP and OpenBLAS
     return true;
   }
   if (a == "--replace" && i + 2 < argc) {

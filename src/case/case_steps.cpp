@@ -112,7 +112,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   }
   s.extrapolate = node->get("extrapolate", s.extrapolate);
   read_newton(run.newton, *node);
-  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
+  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();
   run.arc_length.t_start = s.t_start;

@@ -61,7 +61,7 @@ class StopRule {
 }  // namespace
 
 RunSummary run_case(casefile::Case& c, const RunOptions& options) {
-  if (options.threads > 0) omp_set_num_threads(options.threads);
+  solve::set_thread_count(options.threads);  // OpenMP and OpenBLAS; 0 keeps the defaults
   const auto start = std::chrono::steady_clock::now();
   model::Model& m = *c.model;
   RunSummary summary;

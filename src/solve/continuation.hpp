@@ -35,7 +35,9 @@ struct StepReport {
   double residual_norm = 0;
   int cutbacks = 0;              // failed attempts before this step converged
   std::vector<double> history;   // residual norms of the converged attempt
-  int negative_eigenvalues = -1;  // of the reduced tangent at the converged state; -1: not known
+  // Of the last tangent Newton factorised in this step (an iterate before the converged one: Newton
+  // assembles no tangent at a state it predicts converged, and may reuse a factorisation); -1: not known.
+  int negative_eigenvalues = -1;
   bool limit_point = false;       // the load parameter passed an extremum within this step
   double path_length = 0;         // arc-length methods: the path's length from the start to this point
   std::optional<EnergyReport> energy{};  // time-integration methods only

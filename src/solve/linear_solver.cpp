@@ -1,138 +1,87 @@
+// The solvers that combine others: "auto" (AutoSolver) and its symmetry probe (SymmetryProbingSolver);
+// the factory of the case files' kinds.
 #include "solve/linear_solver.hpp"
-
-#include <Eigen/CholmodSupport>
-#include <Eigen/UmfPackSupport>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "common/error.hpp"
+#include "solve/direct_solvers.hpp"
 
 namespace fibrane::solve {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// CHOLMOD factorisations (lower triangle of a symmetric matrix), remembering which fill-reducing ordering
-// won. CHOLMOD's default tries AMD and, where AMD's fill is high, METIS too, and keeps the better; a
-// model's later patterns differ from the first only by the beam-shell coupling, so later analyses run only
-// the method that won the first. At the bending example's paper mesh METIS wins (1 % less fill than AMD)
-// and an analysis takes 1.18 s instead of 1.37 s. (Keeping the previous permutation itself for a new
-// pattern was measured too: after a change of the coupling its factor was 4-10 % larger than a fresh
-// ordering's, which costs more in the factorisations than the ordering does.)
-template <class Factorization>
-class CholmodSolver final : public LinearSolver {
- public:
-  explicit CholmodSolver(std::string name) : name_(std::move(name)) {
-    fact_.cholmod().print = 0;  // failures are reported through factorize()'s return value
-  }
-  void analyze(const SpMat& a) override {
-    cholmod_common& common = fact_.cholmod();
-    if (chosen_ >= 0) {
-      common.nmethods = 1;
-      common.method[0].ordering = chosen_;
-    }
-    fact_.analyzePattern(a);
-    if (chosen_ < 0 && fact_.info() == Eigen::Success) chosen_ = common.method[common.selected].ordering;
-    ++analyses_;
-  }
-  bool factorize(const SpMat& a) override {
-    fact_.factorize(a);
-    return fact_.info() == Eigen::Success;
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return fact_.solve(b); }
-  std::string name() const override { return name_; }
-  long factor_nonzeros() const override { return static_cast<long>(fact_.cholmod().lnz); }
-  std::string analysis_summary() const override {
-    const char* method = chosen_ == CHOLMOD_METIS ? "METIS" : chosen_ == CHOLMOD_AMD ? "AMD" : "CHOLMOD's choice";
-    return std::to_string(analyses_) + " with " + method;
-  }
-
- private:
-  mutable Factorization fact_;
-  std::string name_;
-  int chosen_ = -1;  // the ordering method of the first analysis (CHOLMOD_AMD, CHOLMOD_METIS, ...)
-  int analyses_ = 0;
-};
-
-// UMFPACK keeps pointers to the matrix for iterative refinement in solve(), so the solver owns a copy.
-class UmfpackSolver final : public LinearSolver {
-  struct Lu : Eigen::UmfPackLU<SpMat> {
-    double lu_nonzeros() const { return m_umfpackInfo[UMFPACK_LNZ] + m_umfpackInfo[UMFPACK_UNZ]; }
-  };
-
- public:
-  void analyze(const SpMat& a) override {
-    a_ = a;
-    lu_.analyzePattern(a_);
-  }
-  bool factorize(const SpMat& a) override {
-    a_ = a;
-    lu_.factorize(a_);
-    return lu_.info() == Eigen::Success;
-  }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return lu_.solve(b); }
-  std::string name() const override { return "umfpack"; }
-  long factor_nonzeros() const override { return static_cast<long>(lu_.lu_nonzeros()); }
-
- private:
-  SpMat a_;
-  Lu lu_;
-};
-
-using CholmodLLT = CholmodSolver<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>;
-using CholmodLDLT = CholmodSolver<Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Lower>>;
-
-// Tries LL^T first at every factorisation, then LDL^T, then LU. An indefinite tangent is often a single
-// wild Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
-// indefinite, and staying on LU afterwards cost 4.5 s per iteration against 1.9 s for LL^T (a failed LL^T
-// attempt cost 1.1 s there, as CHOLMOD stops at the first non-positive pivot). The fallbacks keep their
-// symbolic analysis until the next analyze().
+// LL^T first, then a symmetric indefinite factorisation. An indefinite tangent is often a single wild
+// Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
+// indefinite, and staying on LU afterwards cost 4.5 s per iteration against 1.9 s for LL^T. Past a limit
+// point, though, every tangent is indefinite, and a failed LL^T attempt costs up to a factorisation (CHOLMOD
+// stops at the first non-positive pivot, which for a few negative eigenvalues comes late). So after a
+// matrix that the fallback found indefinite, the next one goes to the fallback first, and LL^T is first
+// again once the fallback finds a matrix positive definite (negative_eigenvalues() == 0).
+// The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS: it gives the inertia at any size,
+// its analysis takes CHOLMOD's pivot order (METIS or AMD, already computed for LL^T; on the bending
+// example at 155 k unknowns MUMPS's own choice, AMF, took 3-4 times CHOLMOD's whole analysis and gave 7 %
+// more factor entries, 73.2 M against 68.3 M), and its failure means a numerically singular matrix, which
+// is final. Without MUMPS it is CHOLMOD's simplicial LDL^T up to kSimplicialLimit unknowns, then
+// UMFPACK's LU (no inertia, so never tried first): the simplicial LDL^T has no BLAS-3 kernels (on the
+// bending example at 400 x 100 x 100, 273 k unknowns, one factorisation did not finish in 10 minutes),
+// and without pivoting it can fail where LU does not. The fallbacks keep their symbolic analysis until
+// the next analyze().
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
   void analyze(const SpMat& a) override {
-    if (!llt_) llt_ = std::make_unique<CholmodLLT>("cholmod");
+    if (!llt_) llt_ = make_cholmod_llt();
     llt_->analyze(a);
     fallback_.reset();
     current_ = llt_.get();
   }
   bool factorize(const SpMat& a) override {
     if (!llt_) analyze(a);
-    current_ = llt_.get();
-    if (llt_->factorize(a)) return true;
-    // CHOLMOD's LDL^T is simplicial (no BLAS-3 kernels): on the bending example at 400 x 100 x 100
-    // (273 k unknowns) one factorisation did not finish in 10 minutes, where UMFPACK's multifrontal
-    // LU takes seconds. Large indefinite matrices therefore go straight to LU.
-    if (!fallback_) {
-      if (a.rows() > kSimplicialLimit) fallback_ = std::make_unique<UmfpackSolver>();
-      else fallback_ = std::make_unique<CholmodLDLT>("ldlt");
-      fallback_->analyze(a);
+    if (!fallback_first_) {
+      current_ = llt_.get();
+      if (llt_->factorize(a)) return true;
     }
-    current_ = fallback_.get();
-    if (fallback_->factorize(a)) return true;
-    if (fallback_->name() == "umfpack") return false;
-    fallback_ = std::make_unique<UmfpackSolver>();  // LDL^T without pivoting can fail where LU does not
-    fallback_->analyze(a);
-    current_ = fallback_.get();
-    return fallback_->factorize(a);
+    const bool ok = factorize_fallback(a);
+    fallback_first_ = ok && current_->negative_eigenvalues() > 0;
+    return ok;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
   std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
+  int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
 
  private:
+  bool factorize_fallback(const SpMat& a) {
+    if (!fallback_) {
+      if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_)});
+      else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack();
+      else fallback_ = make_cholmod_ldlt();
+      fallback_->analyze(a);
+    }
+    current_ = fallback_.get();
+    if (fallback_->factorize(a)) return true;
+    if (fallback_->name() != "ldlt") return false;
+    fallback_ = make_umfpack();  // LDL^T without pivoting can fail where LU does not
+    fallback_->analyze(a);
+    current_ = fallback_.get();
+    return fallback_->factorize(a);
+  }
+
   std::unique_ptr<LinearSolver> llt_, fallback_;
   LinearSolver* current_ = nullptr;
+  bool fallback_first_ = false;  // the last matrix was indefinite (by the fallback's count)
 };
 
 // For a model that cannot promise symmetry (point moments: Eq. (54)'s load stiffness is unsymmetric in
 // general) but whose tangent may still be symmetric in the case at hand (a moment about a fixed axis on a
 // beam kept in a plane: M . delta omega is then the variation of M theta). The values are compared with
 // their mirror entries before every factorisation (one pass over the values through a map built at
-// analyze(), ~1% of a factorisation), and the symmetric chain (supernodal LL^T, LDL^T, LU) is used while
+// analyze(), ~1% of a factorisation), and the symmetric chain (AutoSolver) is used while
 // the matrix is symmetric to round-off; otherwise LU.
 class SymmetryProbingSolver final : public LinearSolver {
  public:
@@ -158,6 +107,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return symmetric_chain_ ? symmetric_chain_->analysis_summary() : ""; }
+  int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
 
  private:
   // mirror_[k] = value index of the entry transposed to entry k; empty if the pattern is not symmetric.
@@ -202,7 +152,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       if (!symmetric_chain_) symmetric_chain_ = std::make_unique<AutoSolver>();
       current_ = symmetric_chain_.get();
     } else {
-      if (!lu_) lu_ = std::make_unique<UmfpackSolver>();
+      if (!lu_) lu_ = make_umfpack();
       current_ = lu_.get();
     }
     current_->analyze(a);
@@ -227,18 +177,20 @@ bool LinearSolver::analyze_if_needed(const SpMat& a, int pattern_version) {
 }
 
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric) {
-  if (kind == "umfpack") return std::make_unique<UmfpackSolver>();
+  if (kind == "umfpack") return make_umfpack();
   if (kind == "auto") {
     if (!symmetric) return std::make_unique<SymmetryProbingSolver>();
     return std::make_unique<AutoSolver>();
   }
-  if (kind == "cholmod" || kind == "ldlt") {
+  if (kind == "cholmod" || kind == "ldlt" || kind == "mumps") {
     if (!symmetric)
       throw InputError("linear solver '" + kind + "' needs a symmetric matrix; use 'umfpack' or 'auto'");
-    if (kind == "cholmod") return std::make_unique<CholmodLLT>("cholmod");
-    return std::make_unique<CholmodLDLT>("ldlt");
+    if (kind == "cholmod") return make_cholmod_llt();
+    if (kind == "ldlt") return make_cholmod_ldlt();
+    if (!mumps_available()) throw InputError("linear solver 'mumps': this fibrane was built without MUMPS");
+    return make_mumps();
   }
-  throw InputError("unknown linear solver '" + kind + "' (expected cholmod, ldlt, umfpack or auto)");
+  throw InputError("unknown linear solver '" + kind + "' (expected cholmod, ldlt, mumps, umfpack or auto)");
 }
 
 }  // namespace fibrane::solve

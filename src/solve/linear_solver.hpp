@@ -1,7 +1,8 @@
 #pragma once
-// Sparse direct solvers behind one interface (SuiteSparse through Eigen's wrappers).
-// Symbolic analysis (fill-reducing ordering, elimination tree) is split from the numeric factorisation
-// so Newton iterations on an unchanged sparsity pattern only refactorise.
+// Sparse direct solvers behind one interface: CHOLMOD and UMFPACK (SuiteSparse, through Eigen's wrappers)
+// and MUMPS (direct_solvers.hpp has them one by one). Symbolic analysis (fill-reducing ordering,
+// elimination tree) is split from the numeric factorisation so Newton iterations on an unchanged
+// sparsity pattern only refactorise.
 #include <memory>
 #include <string>
 
@@ -10,6 +11,7 @@
 
 namespace fibrane::solve {
 
+// One sparse direct solver: analyze() a pattern, factorize() matrices of that pattern, solve().
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
@@ -21,7 +23,9 @@ class LinearSolver {
   // How the analyses went (how many, with which ordering method), for reports; may be empty.
   virtual std::string analysis_summary() const { return {}; }
   // Number of negative eigenvalues of the last factorised matrix (Sylvester's law of inertia applied to
-  // the factorisation), or -1 where the factorisation does not tell.
+  // the factorisation), or -1 where the factorisation does not tell (LU) or the last one failed.
+  // "cholmod": 0; "ldlt": negative entries of D; "mumps": negative pivots (INFOG(12)); "umfpack": -1;
+  // "auto": that of the solver that made the last factorisation.
   virtual int negative_eigenvalues() const { return -1; }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
@@ -34,12 +38,24 @@ class LinearSolver {
 };
 
 // kind: "cholmod" (supernodal LL^T, symmetric positive definite), "ldlt" (CHOLMOD simplicial LDL^T,
-// symmetric indefinite without pivoting), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T, falling back
-// to ldlt (up to 20 000 unknowns; larger ones skip the simplicial LDL^T) then umfpack when a factorisation
-// fails, trying LL^T first again at every factorisation; when symmetric == false it checks every matrix against
-// its transpose and takes that chain while the values are symmetric to round-off (1e-12 of the largest
-// entry), umfpack otherwise; the name then reads "symmetric-auto(...)" or "umfpack").
-// Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false.
+// symmetric indefinite without pivoting), "mumps" (MUMPS multifrontal LDL^T with pivoting, symmetric
+// indefinite; only if mumps_available()), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T; when it
+// fails, mumps where available, otherwise ldlt up to 20 000 unknowns (larger ones skip the simplicial
+// LDL^T) then umfpack; after a matrix that mumps or ldlt found indefinite, the next goes to them first,
+// until they find one positive definite and LL^T is first again). When symmetric == false "auto" checks
+// every matrix against its transpose and takes that chain while the values are symmetric to round-off
+// (1e-12 of the largest entry), umfpack otherwise; the name then reads "symmetric-auto(...)" or
+// "umfpack").
+// Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false;
+// "mumps" without MUMPS in the build is an InputError too.
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric);
+
+// Bounds every thread pool the solvers and the assembly use to n threads (n <= 0: no change): OpenMP's
+// (omp_set_num_threads) and OpenBLAS's (openblas_set_num_threads, found at run time, so any BLAS
+// links), which CHOLMOD and MUMPS call. `fibrane run --threads N` calls it.
+void set_thread_count(int n);
+
+// OpenBLAS's current thread count (openblas_get_num_threads), or -1 if the BLAS is not OpenBLAS.
+int blas_thread_count();
 
 }  // namespace fibrane::solve

@@ -3,7 +3,10 @@
 
 #include <Eigen/Eigenvalues>
 
+#include <string_view>
+
 #include "common/error.hpp"
+#include "solve/direct_solvers.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace fibrane::solve {
@@ -31,6 +34,17 @@ SpMat grid_matrix(int m, double shift, double convection) {
 
 double relative_error(const Eigen::VectorXd& x, const Eigen::VectorXd& ref) { return (x - ref).norm() / ref.norm(); }
 
+// The fallback of "auto" after a failed LL^T: MUMPS where the build has it.
+std::string auto_fallback(const char* without_mumps) {
+  return mumps_available() ? "auto(mumps)" : std::string("auto(") + without_mumps + ")";
+}
+
+// The symmetric kinds this build has, for the given list.
+std::vector<const char*> available(std::vector<const char*> kinds) {
+  if (!mumps_available()) std::erase(kinds, std::string_view("mumps"));
+  return kinds;
+}
+
 struct Case {
   const char* label;
   SpMat a;
@@ -43,8 +57,8 @@ TEST(LinearSolver, AllKindsAgreeWithDenseLu) {
   // Shift -1.3 makes the Laplacian indefinite; the eigenvalue gap to 1.3 is checked below so the
   // reference solve is well conditioned.
   std::vector<Case> cases = {
-      {"spd", grid_matrix(m, 0.1, 0.0), true, {"cholmod", "ldlt", "umfpack", "auto"}},
-      {"indefinite", grid_matrix(m, -1.3, 0.0), true, {"ldlt", "umfpack", "auto"}},
+      {"spd", grid_matrix(m, 0.1, 0.0), true, available({"cholmod", "ldlt", "mumps", "umfpack", "auto"})},
+      {"indefinite", grid_matrix(m, -1.3, 0.0), true, available({"ldlt", "mumps", "umfpack", "auto"})},
       {"unsymmetric", grid_matrix(m, 0.1, 0.7), false, {"umfpack", "auto"}},
   };
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(m * m, -1.0, 2.0);
@@ -74,31 +88,44 @@ TEST(LinearSolver, CholeskyRejectsIndefiniteAndAutoFallsBack) {
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(a);
   ASSERT_TRUE(automatic->factorize(a));
-  EXPECT_EQ(automatic->name(), "auto(ldlt)");
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
   EXPECT_LT((a * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
-// One indefinite matrix (a wild Newton iterate) must not keep "auto" off the Cholesky factorisation.
+// One indefinite matrix (a wild Newton iterate) must not keep "auto" off the Cholesky factorisation: the
+// next matrix goes to the indefinite solver first, and once that finds it positive definite, LL^T is first
+// again. While matrices stay indefinite (past a limit point), they go to the indefinite solver directly.
 TEST(LinearSolver, AutoReturnsToCholeskyAfterAnIndefiniteMatrix) {
   const SpMat indefinite = grid_matrix(8, -1.3, 0.0), spd = grid_matrix(8, 0.1, 0.0);  // same pattern
+  const SpMat other_indefinite = grid_matrix(8, -2.1, 0.0);
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(spd);
   ASSERT_TRUE(automatic->factorize(indefinite));
-  EXPECT_EQ(automatic->name(), "auto(ldlt)");
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  const int negative = automatic->negative_eigenvalues();
+  EXPECT_GT(negative, 0);
+  ASSERT_TRUE(automatic->factorize(other_indefinite));
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  EXPECT_GT(automatic->negative_eigenvalues(), negative);  // a larger shift: more negative eigenvalues
+  ASSERT_TRUE(automatic->factorize(spd));
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  EXPECT_EQ(automatic->negative_eigenvalues(), 0);
   ASSERT_TRUE(automatic->factorize(spd));
   EXPECT_EQ(automatic->name(), "auto(cholmod)");
+  EXPECT_EQ(automatic->negative_eigenvalues(), 0);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
   EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());  // condition number < 1e3
 }
 
-// Above 20 000 unknowns an indefinite matrix skips the simplicial LDL^T (too slow there) and goes to LU.
-TEST(LinearSolver, AutoSendsLargeIndefiniteMatricesToLu) {
+// Above 20 000 unknowns an indefinite matrix goes to MUMPS where the build has it, otherwise it skips
+// the simplicial LDL^T (too slow there) and goes to LU.
+TEST(LinearSolver, AutoFallsBackForLargeIndefiniteMatrices) {
   const SpMat a = grid_matrix(150, -1.3, 0.0);  // 22 500 unknowns; shifted Laplacian, indefinite
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(a);
   ASSERT_TRUE(automatic->factorize(a));
-  EXPECT_EQ(automatic->name(), "auto(umfpack)");
+  EXPECT_EQ(automatic->name(), auto_fallback("umfpack"));
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
   // The smallest |eigenvalue| of this shift is ~1e-3 (eigenvalues 4 - 2cos - 2cos - 1.3 on a fine grid
   // pass close to 0), so allow 1e-8 relative residual; a wrong factorisation misses by O(1).
@@ -144,7 +171,7 @@ TEST(LinearSolver, AutoProbesSymmetryOfUnpromisedMatrices) {
 TEST(LinearSolver, SymbolicAnalysisIsReusedForNewValues) {
   SpMat a = grid_matrix(10, 0.1, 0.0);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(100);
-  for (const char* kind : {"cholmod", "ldlt", "umfpack"}) {
+  for (const char* kind : available({"cholmod", "ldlt", "mumps", "umfpack"})) {
     auto solver = make_linear_solver(kind, true);
     solver->analyze(a);
     for (double scale : {1.0, 3.0, 0.5}) {  // same pattern, new values: refactorize only
@@ -161,16 +188,18 @@ TEST(LinearSolver, SingularMatrixIsReportedNotSolved) {
   for (int k = 0; k < a.outerSize(); ++k)  // zero row and column 5 (kept in the pattern)
     for (SpMat::InnerIterator it(a, k); it; ++it)
       if (it.row() == 5 || it.col() == 5) it.valueRef() = 0.0;
-  for (const char* kind : {"cholmod", "ldlt", "umfpack", "auto"}) {
+  for (const char* kind : available({"cholmod", "ldlt", "mumps", "umfpack", "auto"})) {
     auto solver = make_linear_solver(kind, true);
     solver->analyze(a);
     EXPECT_FALSE(solver->factorize(a)) << kind;
+    EXPECT_EQ(solver->negative_eigenvalues(), -1) << kind;
   }
 }
 
 TEST(LinearSolver, BadKindsAreInputErrors) {
   EXPECT_THROW(make_linear_solver("cholmod", false), InputError);
   EXPECT_THROW(make_linear_solver("ldlt", false), InputError);
+  EXPECT_THROW(make_linear_solver("mumps", false), InputError);
   EXPECT_THROW(make_linear_solver("pardiso", true), InputError);
 }
 
