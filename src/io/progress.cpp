@@ -27,6 +27,9 @@ ProgressLine::ProgressLine(double t_end, std::ostream& out, bool interactive, Cl
 std::string ProgressLine::format(int step, double t, int iterations, double residual,
                                  Clock::duration elapsed) const {
   const double seconds = std::chrono::duration<double>(elapsed).count();
+  if (!monotone_)
+    return fmt::format("step {:>5}  t = {:.4e} (end {:.4e})  newton {:>2}  |r| = {:.2e}  elapsed {}", step, t, t_end_,
+                       iterations, residual, format_duration(seconds));
   const double advanced = t - (have_start_ ? t_start_ : 0.0);
   double remaining_seconds = -1.0;  // unknown until time has advanced
   if (t >= t_end_) {

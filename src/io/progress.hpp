@@ -19,6 +19,9 @@ class ProgressLine {
                Clock::duration tty_interval = std::chrono::milliseconds(100),
                Clock::duration plain_interval = std::chrono::seconds(10));
 
+  // Paths on which t does not grow monotonically (arc-length continuation) get no percentage and no
+  // ETA, which t could not predict, but the elapsed time.
+  void set_monotone(bool monotone) { monotone_ = monotone; }
   // Reports the state after a converged step. Output is rate-limited; the first call always prints.
   void update(int step, double t, int iterations, double residual);
   // Replaces the progress line by `message` and ends the line.
@@ -39,6 +42,7 @@ class ProgressLine {
   Clock::time_point last_print_{};
   bool printed_ = false;
   bool line_open_ = false;  // a \r-line is on screen and needs clearing
+  bool monotone_ = true;
 };
 
 // "12s", "3m05s", "2h07m"; "?" for a negative or non-finite number of seconds.

@@ -81,6 +81,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   std::ostringstream quiet_sink;
   io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
                                             : io::ProgressLine(c.run.steps.t_end);
+  progress.set_monotone(c.run.method != casefile::Method::arc_length);
   bool stopped = false;
   LimitPointFinder limits(model::observables(m));
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));

@@ -76,6 +76,17 @@ TEST(Progress, FormatsEtaFromTimeRate) {
   EXPECT_EQ(format_duration(-1), "?");
 }
 
+TEST(Progress, PathsThatTurnBackShowElapsedTimeInsteadOfAnEta) {
+  std::ostringstream sink;
+  ProgressLine progress(1.0, sink, false);
+  progress.set_monotone(false);
+  const std::string line = progress.format(12, 0.25, 3, 1.5e-9, std::chrono::seconds(10));
+  EXPECT_NE(line.find("t = 2.5000e-01 (end 1.0000e+00)"), std::string::npos) << line;
+  EXPECT_NE(line.find("elapsed 10s"), std::string::npos) << line;
+  EXPECT_EQ(line.find("ETA"), std::string::npos) << line;
+  EXPECT_EQ(line.find("%"), std::string::npos) << line;
+}
+
 TEST(Progress, PlainOutputIsRateLimited) {
   std::ostringstream sink;
   ProgressLine progress(1.0, sink, false, std::chrono::hours(1), std::chrono::hours(1));
