@@ -1,36 +1,45 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet] [--newton-log]`
+// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet] [--newton-log]`; in builds with PETSc also
+// `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs distributed (run_mpi.cpp).
 #include <iostream>
 #include <memory>
 
 #include "commands.hpp"
 #include "case/case_reader.hpp"
 #include "run/run.hpp"
+#include "run_mpi.hpp"
 
 namespace fibrane::app {
 
+void report(const run::RunSummary& s) {
+  std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
+            << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
+            << s.wall_seconds << " s; results in " << s.directory << "\n";
+  if (!s.result.completed()) std::cerr << "fibrane: " << s.result.message << "\n";
+}
+
 void register_run_command(CLI::App& app) {
-  struct Options {
-    std::string case_file;
-    run::RunOptions run;
-  };
-  auto opt = std::make_shared<Options>();
+  auto opt = std::make_shared<RunCommandOptions>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
   cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
   cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")->check(CLI::PositiveNumber);
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
   cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
+  if (mpi_available())
+    cmd->add_option("--mpi-solver", opt->mpi_solver,
+                    "Distributed linear solver (also on one process): mumps (a MUMPS factorisation of every tangent, "
+                    "the default under mpirun) or gmres (GMRES preconditioned by an earlier tangent's factorisation)")
+        ->check(CLI::IsMember({"mumps", "gmres"}));
   cmd->callback([opt]() {
+    if (mpi_available()) {
+      run_mpi(*opt);
+      return;
+    }
     // Reading the whole case first: bad input stops here, before any output file exists.
     casefile::Case c = casefile::read_case(opt->case_file);
     const auto s = run::run_case(c, opt->run);
-    std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
-              << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
-              << s.wall_seconds << " s; results in " << s.directory << "\n";
-    if (!s.result.completed()) {
-      std::cerr << "fibrane: " << s.result.message << "\n";
-      throw CLI::RuntimeError(1);
-    }
+    report(s);
+    if (!s.result.completed()) throw CLI::RuntimeError(1);
   });
 }
 

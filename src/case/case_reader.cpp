@@ -187,7 +187,7 @@ void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, c
 
 }  // namespace
 
-Case read_case(const std::string& path) {
+Case read_case(const std::string& path, const solve::Distribution* distribution) {
   const auto root = io::YamlNode::load_file(path);
   if (!root.is_map()) root.fail("a map with the keys shells, beams, constraints, loads, steps, ...");
   Case c;
@@ -226,6 +226,7 @@ Case read_case(const std::string& path) {
   if (c.output.vtk && c.output.sampled)
     for (auto& b : m.beams) b.set_output_samples(c.output.samples);
   root.reject_unknown_keys();
+  m.set_distribution(distribution);
   try {
     m.finalize();
   } catch (const InputError& e) {

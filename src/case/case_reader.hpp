@@ -5,9 +5,12 @@
 #include <string>
 
 #include "case/case.hpp"
+#include "solve/forward.hpp"
 
 namespace fibrane::casefile {
 
-Case read_case(const std::string& path);
+// With a distribution (a distributed run; it must outlive the case) the model shares its elements among
+// the processes (model::Model::set_distribution).
+Case read_case(const std::string& path, const solve::Distribution* distribution = nullptr);
 
 }  // namespace fibrane::casefile

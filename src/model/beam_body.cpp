@@ -146,6 +146,7 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
     Eigen::MatrixXd k;
 #pragma omp for schedule(dynamic, 8)
     for (int e = 0; e < n_elements; ++e) {
+      if (!sink.owns(e)) continue;
       const auto& el = elements[e];
       const beam::BeamDofs q = current(el.control_points, u, dofs);
       const int n = 4 * static_cast<int>(el.control_points.size());

@@ -8,6 +8,13 @@
 // element vectors and matrices through an ElementSink, which knows where its elements sit in the
 // assembler. State kept between evaluations (projections, frames) is committed by accept() after a
 // converged step and rolled back by reject() after a failed attempt.
+//
+// In a distributed run (solve/distribution.hpp) every process holds the whole model and state, and each
+// element is evaluated by one process, its owner: evaluate() skips the elements with !sink.owns(e), and
+// adds residuals that belong to no element (nodal loads) only where sink.owns_global(). The energies
+// returned and the residuals are summed over the processes by the model; state that evaluate() records
+// for output (a coupling's point data) is summed with sink.sum(). update(), accept() and reject() run on
+// every process for the whole model (the closest points are replicated).
 #include <span>
 #include <string>
 #include <vector>
@@ -43,11 +50,24 @@ struct Status {
 // Which energy a contribution's energy counts as (history.csv reports them apart).
 enum class EnergyKind { strain, interaction, external, kinetic };
 
-// Where a contribution writes: its elements are `first`, `first + 1`, ... in the assembler.
+// Where a contribution writes: its elements are `first`, `first + 1`, ... in the assembler. With
+// `owned` (one flag per assembler element) and `distribution`, a process of a distributed run.
 class ElementSink {
  public:
-  ElementSink(solve::SparseAssembler& a, int first, bool with_tangent, bool with_rate)
-      : assembler_(a), first_(first), with_tangent_(with_tangent), with_rate_(with_rate) {}
+  ElementSink(solve::SparseAssembler& a, int first, bool with_tangent, bool with_rate,
+              const std::vector<char>* owned = nullptr, const solve::Distribution* distribution = nullptr)
+      : assembler_(a), first_(first), with_tangent_(with_tangent), with_rate_(with_rate), owned_(owned),
+        distribution_(distribution) {}
+  // Whether this process evaluates element `element` (always, in a serial run). Adding an element that
+  // is not owned is a std::logic_error.
+  bool owns(int element) const { return !owned_ || (*owned_)[static_cast<std::size_t>(first_ + element)]; }
+  // Whether this process adds what belongs to no element (add_vector; add_rate of terms outside the
+  // contribution's elements): the first process. add_vector elsewhere is a std::logic_error.
+  bool owns_global() const;
+  // Whether the run is distributed over several processes (then sum() communicates).
+  bool distributed() const;
+  // Collective (every process, in the same order): sums `values` over the processes, in place.
+  void sum(std::span<double> values) const;
   // Also accumulates -r into `external` (full vector): the external force f_ext of an external
   // contribution (r = -f_ext), whose elements have the DOF lists `element_dofs`. Not thread-safe.
   void record_external(Eigen::VectorXd* external, const std::vector<std::vector<int>>* element_dofs) {
@@ -71,6 +91,8 @@ class ElementSink {
   solve::SparseAssembler& assembler_;
   int first_;
   bool with_tangent_, with_rate_;
+  const std::vector<char>* owned_;
+  const solve::Distribution* distribution_;
   Eigen::VectorXd* external_ = nullptr;
   const std::vector<std::vector<int>>* element_dofs_ = nullptr;
 };

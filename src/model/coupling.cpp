@@ -228,10 +228,12 @@ double Coupling::evaluate(const State& state, ElementSink& sink, Status& status)
   bool bad = false;
   double energy = evaluate_pairs(state, sink, bad);
   energy += evaluate_soft_points(state, sink, bad);
+  // The model sums the returned energies over the processes; energy_ (output) is the whole coupling's.
+  energy_ = energy;
+  if (sink.distributed()) share_points(sink, energy_);
   if (bad)
     status.merge(Status::invalid("a beam point of interaction '" + name_ +
                                  "' lies inside the plate, where the interaction law has no value"));
-  energy_ = energy;
   return energy;
 }
 
@@ -249,7 +251,8 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
     interaction::PairPoint p;
 #pragma omp for schedule(dynamic, 4)
     for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
-      if (pair_points_[k_pair].empty()) continue;  // a neighbour kept in the pattern only
+      // A neighbour kept in the pattern only, or a pair another process evaluates.
+      if (pair_points_[k_pair].empty() || !sink.owns(k_pair)) continue;
       const auto [eb, es] = pairs_[k_pair];
       const auto& bel = beam_.elements[eb];
       const auto& sel = shell_.elements[es];
@@ -286,6 +289,42 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
     }
   }
   return energy;
+}
+
+void Coupling::share_points(const ElementSink& sink, double& energy) {
+  // Each point was evaluated by one process (the owner of its pair or of the soft element) and is zero
+  // elsewhere, so the sum over the processes is its value. xi and s are set everywhere and not summed.
+  constexpr int kFields = 11;
+  std::vector<double> data(points_.size() * kFields + 1);
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const CouplingPoint& p = points_[i];
+    double* d = data.data() + i * kFields;
+    d[0] = p.active ? 1.0 : 0.0;
+    d[1] = p.soft ? 1.0 : 0.0;
+    d[2] = p.distance;
+    d[3] = p.cos_alpha - 1.0;  // zero where not evaluated (the default is 1)
+    d[4] = p.energy_density;
+    for (int c = 0; c < 3; ++c) {
+      d[5 + c] = p.position[c];
+      d[8 + c] = p.force[c];
+    }
+  }
+  data.back() = energy;
+  sink.sum(data);
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    CouplingPoint& p = points_[i];
+    const double* d = data.data() + i * kFields;
+    p.active = d[0] > 0.5;
+    p.soft = d[1] > 0.5;
+    p.distance = d[2];
+    p.cos_alpha = d[3] + 1.0;
+    p.energy_density = d[4];
+    for (int c = 0; c < 3; ++c) {
+      p.position[c] = d[5 + c];
+      p.force[c] = d[8 + c];
+    }
+  }
+  energy = data.back();
 }
 
 Eigen::Vector3d Coupling::total_force() const {

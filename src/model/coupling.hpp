@@ -111,6 +111,8 @@ class Coupling final : public Contribution {
   bool collect_pairs();  // true if a pair outside the pattern appeared
   double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);
   double evaluate_soft_points(const State& s, ElementSink& sink, bool& bad);
+  // Distributed: sums the points' output data and `energy` over the processes (collective).
+  void share_points(const ElementSink& sink, double& energy);
   // All soft points share one pattern element: the union of their beam elements' and windows' control
   // points (their windows overlap almost entirely), each point adding the sub-block of its support.
   void build_soft_element();

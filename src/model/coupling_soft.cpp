@@ -105,11 +105,11 @@ void Coupling::request_soft_switches() {
 double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, bool& bad) {
   // Each soft point adds the sub-block of its support to the one soft element (after the pairs).
   const int n_soft = static_cast<int>(soft_.size());
-  if (n_soft == 0) return 0.0;
+  const int soft_element = static_cast<int>(pairs_.size());
+  if (n_soft == 0 || !sink.owns(soft_element)) return 0.0;
   const Eigen::VectorXd& u = state.u;
   const solve::DofMap& dofs = state.dofs;
   const bool with_tangent = sink.with_tangent();
-  const int soft_element = static_cast<int>(pairs_.size());
   const double beta = this->beta();
   double energy = 0;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)

@@ -84,6 +84,7 @@ double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) 
   const int n_elements = num_elements();
 #pragma omp parallel for schedule(dynamic, 16)
   for (int e = 0; e < n_elements; ++e) {
+    if (!sink.owns(e)) continue;
     const auto& d = dofs_[e];
     Eigen::VectorXd w(static_cast<Eigen::Index>(d.size()));
     for (std::size_t i = 0; i < d.size(); ++i) w[static_cast<Eigen::Index>(i)] = step_->inertia(d[i], s.u[d[i]]);

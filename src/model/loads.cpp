@@ -27,6 +27,7 @@ NodalLoad NodalLoad::from_nodal(const solve::DofMap& dofs, int block, const Eige
 
 double NodalLoads::evaluate(const State& s, ElementSink& sink, Status& /*status*/) {
   double energy = 0;
+  if (!sink.owns_global()) return energy;
   for (const auto& l : loads) {
     const double f = s.functions(l.function, s.t);
     sink.add_vector(l.dofs, -f * l.values);  // residual = internal - external
@@ -60,6 +61,7 @@ std::vector<std::vector<int>> PointMoment::element_dofs(const solve::DofMap& dof
 }
 
 double PointMoment::evaluate(const State& s, ElementSink& sink, Status& /*status*/) {
+  if (!sink.owns(0)) return 0.0;
   const auto& cps = beam_.elements[element_].control_points;
   const beam::BeamDofs qe = beam_.current(cps, s.u, s.dofs);
   const int n = 4 * static_cast<int>(cps.size());
@@ -123,6 +125,7 @@ double EdgeMoment::evaluate(const State& s, ElementSink& sink, Status& /*status*
   Eigen::VectorXd r;
   Eigen::MatrixXd kt;
   for (std::size_t k = 0; k < elements_.size(); ++k) {
+    if (!sink.owns(static_cast<int>(k))) continue;
     element(static_cast<int>(k), m, s, r, sink.with_tangent() ? &kt : nullptr);
     sink.add(static_cast<int>(k), r, sink.with_tangent() ? &kt : nullptr);
     if (sink.with_rate()) {  // the residual is linear in the moment

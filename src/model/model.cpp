@@ -1,12 +1,32 @@
 #include "model/model.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 namespace fibrane::model {
 
+namespace {
+
+[[noreturn]] void not_owned(const char* what) {
+  throw std::logic_error(std::string("ElementSink: ") + what +
+                         " on a process that does not own it (a contribution must skip !sink.owns(e))");
+}
+
+}  // namespace
+
+bool ElementSink::owns_global() const { return !distribution_ || distribution_->rank() == 0; }
+
+bool ElementSink::distributed() const { return distribution_ && distribution_->size() > 1; }
+
+void ElementSink::sum(std::span<double> values) const {
+  if (distribution_) distribution_->sum(values);
+}
+
 void ElementSink::add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
+  if (!owns(element)) not_owned("element added");
   assembler_.add(first_ + element, r, k);
   if (external_) {
     const auto& dofs = (*element_dofs_)[static_cast<std::size_t>(element)];
@@ -15,6 +35,7 @@ void ElementSink::add(int element, const Eigen::VectorXd& r, const Eigen::Matrix
 }
 
 void ElementSink::add(int element, std::span<const int> local, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
+  if (!owns(element)) not_owned("element added");
   assembler_.add(first_ + element, local, r, k);
   if (external_) {
     const auto& dofs = (*element_dofs_)[static_cast<std::size_t>(element)];
@@ -23,6 +44,7 @@ void ElementSink::add(int element, std::span<const int> local, const Eigen::Vect
 }
 
 void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) {
+  if (!owns_global()) not_owned("vector added");
   assembler_.add_vector(dofs, r);
   if (external_)
     for (std::size_t a = 0; a < dofs.size(); ++a) (*external_)[dofs[a]] -= r[static_cast<Eigen::Index>(a)];
@@ -78,6 +100,8 @@ void Model::finalize() {
     e.first_element = static_cast<int>(element_dofs.size());
     for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
+  owned_.clear();
+  share(element_dofs, 0);
   assembler_.set_pattern(constraints, element_dofs);
   constrained_dofs_ = constraints.constrained_dofs();
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
@@ -95,7 +119,46 @@ void Model::rebuild_variable_elements() {
     e.first_element = assembler_.num_fixed_elements() + static_cast<int>(element_dofs.size());
     for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
+  share(element_dofs, assembler_.num_fixed_elements());
   assembler_.set_variable_elements(element_dofs);
+}
+
+void Model::set_distribution(const solve::Distribution* d) {
+  if (finalized_) throw std::logic_error("Model::set_distribution after finalize");
+  distribution_ = d;
+}
+
+void Model::share(std::vector<std::vector<int>>& element_dofs, int first) {
+  if (!distribution_) return;
+  owned_.resize(static_cast<size_t>(first));
+  const int n = constraints.num_free();
+  for (auto& element : element_dofs) {
+    int smallest = n;
+    for (int d : element)
+      for (const auto& [i, coef] : constraints.expansion(d)) smallest = std::min(smallest, i);
+    const int owner = smallest < n ? distribution_->owner(smallest, n) : 0;
+    owned_.push_back(owner == distribution_->rank());
+    if (!owned_.back()) element.clear();
+  }
+}
+
+void Model::agree(bool with_tangent) {
+  std::array<double, 5> sums{energies_[0], energies_[1], energies_[2], energies_[3], status_.valid ? 0.0 : 1.0};
+  distribution_->sum(sums);
+  std::copy_n(sums.begin(), 4, energies_);
+  if (sums[4] > 0) status_ = Status::invalid(distribution_->first_text(status_.valid ? std::string() : status_.reason));
+  if (inertia_) distribution_->sum({external_.data(), static_cast<size_t>(external_.size())});
+  if (with_tangent) tangent_finite_ = distribution_->all(NonlinearSystem::tangent_finite());
+}
+
+bool Model::tangent_finite() const {
+  return distribution_ ? tangent_finite_ : NonlinearSystem::tangent_finite();
+}
+
+Eigen::VectorXd Model::tangent_times(const Eigen::VectorXd& x) const {
+  Eigen::VectorXd y = tangent() * x;
+  if (distribution_) distribution_->sum({y.data(), static_cast<size_t>(y.size())});
+  return y;
 }
 
 bool Model::symmetric() const {
@@ -134,12 +197,14 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   external_.setZero(dofs.size());
   const State s = state();
   for (auto& e : entries_) {
-    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent);
+    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, distribution_ ? &owned_ : nullptr,
+                     distribution_);
     if (e.contribution->energy_kind() == EnergyKind::external) sink.record_external(&external_, &e.dofs);
     energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
     lap(times_.*e.time);
   }
-  assembler_.end();
+  assembler_.end(distribution_);
+  if (distribution_) agree(with_tangent);
   // The reference force level for Newton's relative tolerance: external loads, or, for problems driven by
   // prescribed displacements, the reactions they cause.
   double reaction_sq = 0.0;

@@ -22,6 +22,7 @@
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
 #include "solve/constraints.hpp"
+#include "solve/distribution.hpp"
 #include "solve/dof_map.hpp"
 #include "solve/generalized_alpha.hpp"
 #include "solve/nonlinear.hpp"
@@ -61,6 +62,13 @@ class Model : public solve::TransientSystem {
   Contribution& add_contribution(std::unique_ptr<Contribution> c);
   // Call once after bodies, constraints and loads are in place.
   void finalize();
+  // A distributed run (solve/distribution.hpp; set before finalize(), kept alive by the caller): each
+  // element is evaluated by one process, the owner of the smallest reduced unknown it touches (process 0
+  // for an element that touches none), and the residuals, energies, external forces and the validity of
+  // a state are summed or agreed over the processes after every evaluation. Everything the model reports
+  // is then the same on every process except tangent(), this process's summand. Null: serial.
+  void set_distribution(const solve::Distribution* d);
+  const solve::Distribution* distribution() const { return distribution_; }
 
   solve::CurveEval curve_eval() const;
   Eigen::VectorXd initial_unknowns() const { return Eigen::VectorXd::Zero(constraints.num_free()); }
@@ -70,6 +78,9 @@ class Model : public solve::TransientSystem {
   void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override;
   const Eigen::VectorXd& residual() const override { return assembler_.reduced_residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
+  bool tangent_finite() const override;
+  Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const override;
+  bool distributed() const override { return distribution_ && distribution_->size() > 1; }
   const Eigen::VectorXd& load_derivative() const override { return assembler_.reduced_rate(); }
   int pattern_version() const override { return assembler_.pattern_version(); }
   std::string invalid_state() const override { return status_.valid ? std::string() : status_.reason; }
@@ -110,6 +121,11 @@ class Model : public solve::TransientSystem {
     std::vector<std::vector<int>> dofs = {};  // element DOF lists of external contributions (f_ext)
   };
   void rebuild_variable_elements();
+  // Distributed: records which of the elements first, first + 1, ... this process owns (owned_) and
+  // empties the DOF lists of the others, so that its assembler holds only its own elements.
+  void share(std::vector<std::vector<int>>& element_dofs, int first);
+  // Distributed, after the assembly: energies, status and external forces over the processes.
+  void agree(bool with_tangent);
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
   std::vector<std::unique_ptr<Contribution>> extra_;
@@ -124,6 +140,9 @@ class Model : public solve::TransientSystem {
   Status status_;
   bool finalized_ = false;
   PhaseTimes times_;
+  const solve::Distribution* distribution_ = nullptr;
+  std::vector<char> owned_;     // per assembler element: evaluated by this process (distributed only)
+  bool tangent_finite_ = true;  // agreed over the processes at the last evaluation with the tangent
 };
 
 }  // namespace fibrane::model

@@ -74,6 +74,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     shell::ElementTangent element_tangent;
 #pragma omp for schedule(dynamic, 16)
     for (int e = 0; e < n_elements; ++e) {
+      if (!sink.owns(e)) continue;
       const auto& el = elements[e];
       const auto& cps = element_control_points[e];
       const Eigen::Matrix3Xd X = reference(cps);

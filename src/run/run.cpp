@@ -66,8 +66,11 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   model::Model& m = *c.model;
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
-  output::RunOutput out(c, summary.directory);
-  auto solver = solve::make_linear_solver(c.run.linear_solver, m.symmetric());
+  // A distributed run's processes hold the same state: the first one writes.
+  const bool writes = !m.distribution() || m.distribution()->rank() == 0;
+  std::unique_ptr<output::RunOutput> out = writes ? std::make_unique<output::RunOutput>(c, summary.directory) : nullptr;
+  auto solver = options.make_solver ? options.make_solver(m.symmetric())
+                                    : solve::make_linear_solver(c.run.linear_solver, m.symmetric());
   auto method = make_method(c.run, options.newton_log);
 
   Eigen::VectorXd q = m.initial_unknowns();
@@ -75,12 +78,15 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   solve::StepReport initial;
   initial.t = c.run.steps.t_start;
   initial.residual_norm = m.residual().norm();
-  out.write_history(m, initial);
-  out.write_vtk(m, initial);
+  if (out) {
+    out->write_history(m, initial);
+    out->write_vtk(m, initial);
+  }
   StopRule stop_rule(c.run, m);
   std::ostringstream quiet_sink;
-  io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
-                                            : io::ProgressLine(c.run.steps.t_end);
+  const bool quiet = options.quiet || !writes;
+  io::ProgressLine progress = quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
+                                    : io::ProgressLine(c.run.steps.t_end);
   progress.set_monotone(c.run.method != casefile::Method::arc_length);
   bool stopped = false;
   LimitPointFinder limits(model::observables(m));
@@ -89,12 +95,12 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method.get());
   summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
     if (dynamics) m.set_reactions(&dynamics->state().reaction);
-    out.write_history(m, r);
-    if (limits.add(r, m) && !options.quiet)
+    if (out) out->write_history(m, r);
+    if (limits.add(r, m) && !quiet)
       std::cerr << "\nfibrane: limit point (" << (limits.last().maximum ? "maximum" : "minimum") << " of t) at t = "
                 << format_number(limits.last().t) << " in step " << r.step << "\n";
     stopped = stop_rule.reached(m);
-    if (r.t >= t_last || stopped || out.vtk_due(r.step)) out.write_vtk(m, r);
+    if (out && (r.t >= t_last || stopped || out->vtk_due(r.step))) out->write_vtk(m, r);
     progress.update(r.step, r.t, r.iterations, r.residual_norm);
     return !stopped;
   });
@@ -113,7 +119,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
     j.set("values", std::move(values));
     points.push_back(std::move(j));
   }
-  out.write_summary(m, summary.result, summary.wall_seconds, solver->name(), &extra);
+  if (out) out->write_summary(m, summary.result, summary.wall_seconds, solver->name(), &extra);
   return summary;
 }
 

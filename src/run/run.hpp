@@ -1,6 +1,8 @@
 #pragma once
 // Runs a case: the continuation method the case chose marches along the model's path, and after every
 // converged step the results are written and the case's stop rule is checked.
+#include <functional>
+#include <memory>
 #include <string>
 
 #include "case/case.hpp"
@@ -13,6 +15,9 @@ struct RunOptions {
   int threads = 0;               // OpenMP threads; 0 keeps the default
   bool quiet = false;            // no progress line
   bool newton_log = false;       // one line per Newton iteration (t, iteration, |r|) on stderr
+  // The linear solver instead of the case's `solver` (a distributed run's, src/parallel), given whether
+  // the model promises symmetric tangents. Empty: the case's.
+  std::function<std::unique_ptr<solve::LinearSolver>(bool symmetric)> make_solver;
 };
 
 struct RunSummary {
@@ -21,6 +26,8 @@ struct RunSummary {
   std::string directory;
 };
 
+// In a distributed run (the case's model has a distribution) every process calls run_case; the first
+// writes the output files and the progress line, the others only compute (their state is the same).
 RunSummary run_case(casefile::Case& c, const RunOptions& options);
 
 }  // namespace fibrane::run

@@ -34,10 +34,6 @@ namespace {
 
 int sign_of(double x) { return x > 0 ? 1 : (x < 0 ? -1 : 0); }
 
-bool finite_values(const Eigen::SparseMatrix<double>& k) {
-  return Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite();
-}
-
 // The two roots of a x^2 + b x + c = 0 (a > 0) without cancellation; false if they are complex.
 bool quadratic_roots(double a, double b, double c, double& x1, double& x2) {
   const double discriminant = b * b - 4 * a * c;
@@ -127,7 +123,7 @@ bool ArcLength::tangent_at_state(NonlinearSystem& sys, LinearSolver& solver, Tan
   const Eigen::VectorXd& r_t = sys.load_derivative();
   if (r_t.size() != k.rows())
     throw std::invalid_argument("arc-length continuation needs the system's load derivative (d residual / d t)");
-  if (!finite_values(k) || !r_t.allFinite()) return false;
+  if (!sys.tangent_finite() || !r_t.allFinite()) return false;
   solver.analyze_if_needed(k, sys.pattern_version());
   if (solver.factorize(k)) {
     tangent.dq = solver.solve(-r_t);
@@ -136,6 +132,8 @@ bool ArcLength::tangent_at_state(NonlinearSystem& sys, LinearSolver& solver, Tan
     if (tangent.dq.allFinite()) return true;
   }
   tangent.negative_eigenvalues = -1;
+  // The extended system needs the whole tangent, which a distributed system does not hold.
+  if (sys.distributed()) return false;
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(k.rows());
   return have_prev_ ? bordered_solve(k, r_t, dq_prev_, c_ * c_ * dt_prev_, zero, 1.0, tangent.dq, tangent.dt)
                     : bordered_solve(k, r_t, zero, control_.initial_direction, zero, 1.0, tangent.dq, tangent.dt);
@@ -180,7 +178,7 @@ bool ArcLength::corrector_update(NonlinearSystem& sys, LinearSolver& solver, con
   const Eigen::SparseMatrix<double>& k = sys.tangent();
   const Eigen::VectorXd& r = sys.residual();
   const Eigen::VectorXd& r_t = sys.load_derivative();
-  if (!finite_values(k) || !r_t.allFinite()) {
+  if (!sys.tangent_finite() || !r_t.allFinite()) {
     failure = "non-finite tangent or load derivative";
     return false;
   }
@@ -213,6 +211,10 @@ bool ArcLength::corrector_update(NonlinearSystem& sys, LinearSolver& solver, con
         if (delta_q.allFinite() && std::isfinite(delta_t)) return true;
       }
     }
+  }
+  if (sys.distributed()) {  // the extended system needs the whole tangent
+    failure = "factorization failed (" + solver.name() + ")";
+    return false;
   }
   if (bordered_solve(k, r_t, dq, c2 * dt, -r, -g, delta_q, delta_t)) return true;
   failure = "factorization failed (" + solver.name() + "), also for the extended system";

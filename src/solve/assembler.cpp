@@ -207,7 +207,7 @@ void SparseAssembler::add_rate(std::span<const int> dofs, const Eigen::VectorXd&
   overflow_.used = true;
 }
 
-void SparseAssembler::end() {
+void SparseAssembler::end(const Distribution* distribution) {
   const Eigen::Index nnz = matrix_.nonZeros();
   double* values = matrix_.valuePtr();
   // Sum and clear in one pass, so the next begin() finds the buffers zeroed already.
@@ -235,6 +235,10 @@ void SparseAssembler::end() {
   };
   for (size_t i = 1; i < buffers_.size(); ++i) reduce(buffers_[i]);
   reduce(overflow_);
+  if (distribution) {
+    distribution->sum({full_residual_.data(), static_cast<size_t>(full_residual_.size())});
+    if (prescribed_rate_) distribution->sum({full_rate_.data(), static_cast<size_t>(full_rate_.size())});
+  }
   reduced_residual_ = constraints_->restrict_vector(full_residual_);
   if (prescribed_rate_) reduced_rate_ = constraints_->restrict_vector(full_rate_);
   else reduced_rate_.resize(0);

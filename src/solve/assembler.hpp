@@ -25,6 +25,7 @@
 #include <Eigen/SparseCore>
 
 #include "solve/constraints.hpp"
+#include "solve/distribution.hpp"
 
 namespace fibrane::solve {
 
@@ -61,7 +62,10 @@ class SparseAssembler {
   // Explicit d r / d t at arbitrary DOFs (loads scaled by functions of t), thread-safe; ignored unless
   // begin() was given a prescribed rate.
   void add_rate(std::span<const int> dofs, const Eigen::VectorXd& r_t);
-  void end();  // reduce thread buffers, form T^T r (and T^T dr/dt)
+  // Reduces the thread buffers and forms T^T r (and T^T dr/dt). With a distribution, collective: the full
+  // residual (and rate) of this process's elements are first summed over the processes, so that every
+  // process holds the whole residual; the matrix stays this process's summand.
+  void end(const Distribution* distribution = nullptr);
 
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   const Eigen::VectorXd& reduced_residual() const { return reduced_residual_; }

@@ -2,5 +2,6 @@
 // Forward declarations for headers that only pass the solver's objects by reference.
 namespace fibrane::solve {
 class DofMap;
+class Distribution;
 class SparseAssembler;
 }  // namespace fibrane::solve

@@ -64,6 +64,9 @@ class StepSystem final : public NonlinearSystem {
   }
   const Eigen::VectorXd& residual() const override { return shift_.size() > 0 ? residual_ : sys_.residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return sys_.tangent(); }
+  bool tangent_finite() const override { return sys_.tangent_finite(); }
+  Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const override { return sys_.tangent_times(x); }
+  bool distributed() const override { return sys_.distributed(); }
   const Eigen::VectorXd& load_derivative() const override { return sys_.load_derivative(); }
   int pattern_version() const override { return sys_.pattern_version(); }
   bool symmetric() const override { return sys_.symmetric(); }

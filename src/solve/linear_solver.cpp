@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "solve/direct_solvers.hpp"
+#include "solve/symmetry_probe.hpp"
 
 namespace fibrane::solve {
 namespace {
@@ -86,15 +87,14 @@ class AutoSolver final : public LinearSolver {
 class SymmetryProbingSolver final : public LinearSolver {
  public:
   void analyze(const SpMat& a) override {
-    build_mirror(a);
-    symmetric_ = !mirror_.empty() && is_symmetric(a);
+    probe_.build(a);
+    symmetric_ = probe_.symmetric(a);
     pick(a);
   }
   bool factorize(const SpMat& a) override {
     // analyze() is the caller's duty on a new pattern; a matrix of another size is re-analysed here.
-    if (!current_ || (structurally_symmetric_ && static_cast<Eigen::Index>(mirror_.size()) != a.nonZeros()))
-      analyze(a);
-    const bool now_symmetric = structurally_symmetric_ && is_symmetric(a);
+    if (!current_ || (probe_.structurally_symmetric() && probe_.size() != a.nonZeros())) analyze(a);
+    const bool now_symmetric = probe_.symmetric(a);
     if (now_symmetric != symmetric_) {
       symmetric_ = now_symmetric;
       pick(a);
@@ -110,42 +110,6 @@ class SymmetryProbingSolver final : public LinearSolver {
   int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
 
  private:
-  // mirror_[k] = value index of the entry transposed to entry k; empty if the pattern is not symmetric.
-  // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
-  // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
-  // (binary searches took ~1 s at the bending example's paper mesh).
-  void build_mirror(const SpMat& a) {
-    mirror_.clear();
-    structurally_symmetric_ = false;
-    if (a.rows() != a.cols() || !a.isCompressed()) return;
-    const int* outer = a.outerIndexPtr();
-    const int* inner = a.innerIndexPtr();
-    std::vector<int> next(outer, outer + a.cols());
-    std::vector<int> mirror(static_cast<size_t>(a.nonZeros()));
-    for (Eigen::Index col = 0; col < a.cols(); ++col)
-      for (int k = outer[col]; k < outer[col + 1]; ++k) {
-        const int row = inner[k];
-        const int m = next[row]++;
-        if (m >= outer[row + 1] || inner[m] != col) return;
-        mirror[static_cast<size_t>(k)] = m;
-      }
-    mirror_ = std::move(mirror);
-    structurally_symmetric_ = true;
-  }
-  // Symmetric when every |a_ij - a_ji| <= 1e-12 max|a|: assembled tangents of symmetric element matrices
-  // differ from their transpose by summation-order round-off only (~1e-16 relative, measured 1e-16 on
-  // the bending example), while a genuinely unsymmetric load stiffness differs at O(load) level.
-  bool is_symmetric(const SpMat& a) const {
-    const double* v = a.valuePtr();
-    const Eigen::Index nnz = a.nonZeros();
-    double largest = 0, difference = 0;
-#pragma omp parallel for reduction(max : largest, difference) schedule(static) if (nnz > 200000)
-    for (Eigen::Index k = 0; k < nnz; ++k) {
-      largest = std::max(largest, std::abs(v[k]));
-      difference = std::max(difference, std::abs(v[k] - v[mirror_[static_cast<size_t>(k)]]));
-    }
-    return difference <= 1e-12 * largest;
-  }
   // The symmetric chain is kept (with its ordering) while LU is in use.
   void pick(const SpMat& a) {
     if (symmetric_) {
@@ -158,8 +122,8 @@ class SymmetryProbingSolver final : public LinearSolver {
     current_->analyze(a);
   }
 
-  bool symmetric_ = false, structurally_symmetric_ = false;
-  std::vector<int> mirror_;
+  SymmetryProbe probe_;
+  bool symmetric_ = false;
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
   LinearSolver* current_ = nullptr;
 };

@@ -30,7 +30,7 @@ ContinuationResult LinearStep::run(NonlinearSystem& sys, Eigen::VectorXd& q, Lin
   }
   // The linear system's own residual |K dq + r|: a direct solve leaves round-off; a singular system (a
   // zero pivot perturbed to a tiny one) leaves one of the size of the loads, or a huge one.
-  const double linear_residual = (sys.tangent() * dq + sys.residual()).norm();
+  const double linear_residual = (sys.tangent_times(dq) + sys.residual()).norm();
   res.total_iterations = 1;
   if (!(linear_residual <= tolerance_ * scale)) {
     res.message = "the linear solve left |K dq + r| = " + format_number(linear_residual) + " at the load level " +

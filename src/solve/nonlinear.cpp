@@ -26,6 +26,11 @@ const Eigen::VectorXd& NonlinearSystem::load_derivative() const {
   return none;
 }
 
+bool NonlinearSystem::tangent_finite() const {
+  const Eigen::SparseMatrix<double>& k = tangent();
+  return Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite();
+}
+
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
                           LinearSolver& solver) {
   if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
@@ -117,7 +122,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       const Eigen::SparseMatrix<double>& k = sys.tangent();
       // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's
       // derivative is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
-      if (!Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite()) {
+      if (!sys.tangent_finite()) {
         rep.failure = "non-finite tangent at iteration " + std::to_string(it);
         return rep;
       }

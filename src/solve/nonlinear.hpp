@@ -18,7 +18,16 @@ class NonlinearSystem {
   virtual int size() const = 0;                                    // number of free unknowns q
   virtual void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) = 0;
   virtual const Eigen::VectorXd& residual() const = 0;             // reduced residual at the last evaluate
-  virtual const Eigen::SparseMatrix<double>& tangent() const = 0;  // reduced tangent d residual / dq
+  // Reduced tangent d residual / dq. In a distributed system (distributed() true) it is this process's
+  // summand: the tangent is the sum of the processes' matrices, which only a distributed LinearSolver
+  // factorises as a whole (src/parallel).
+  virtual const Eigen::SparseMatrix<double>& tangent() const = 0;
+  // Whether every entry of the tangent is finite; the same answer on every process.
+  virtual bool tangent_finite() const;
+  // The tangent times x (x and the product replicated on every process).
+  virtual Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const { return tangent() * x; }
+  // Whether tangent() is one process's summand of a tangent shared by several processes.
+  virtual bool distributed() const { return false; }
   // d residual / d t at fixed q, exact, from the last evaluate() with the tangent: the load vector that
   // arc-length continuation borders the tangent with (prescribed values and loads both scale with t).
   // Systems that do not provide it return an empty vector.

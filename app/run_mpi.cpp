@@ -1,0 +1,90 @@
+#include "run_mpi.hpp"
+
+#ifdef FIBRANE_HAVE_PETSC
+
+#include <algorithm>
+#include <iostream>
+#include <optional>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+
+#include "case/case_reader.hpp"
+#include "common/error.hpp"
+#include "parallel/mpi_distribution.hpp"
+#include "parallel/petsc_solver.hpp"
+#include "parallel/session.hpp"
+
+namespace fibrane::app {
+
+bool mpi_available() { return true; }
+
+namespace {
+
+// Reads the case on every process. The processes agree on the outcome before any goes on, so that a
+// process that failed alone cannot leave the others waiting in the run's first collective.
+casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDistribution& d, bool distributed) {
+  std::optional<casefile::Case> c;
+  std::string error;
+  int code = 0;
+  try {
+    c = casefile::read_case(o.case_file, distributed ? &d : nullptr);
+  } catch (const InputError& e) {
+    error = std::string("fibrane: error: ") + e.what();
+    code = 2;
+  } catch (const std::exception& e) {
+    error = std::string("fibrane: failed: ") + e.what();
+    code = 1;
+  }
+  if (!d.all(code == 0)) {
+    const std::string first = d.first_text(error);
+    if (d.rank() == 0) std::cerr << first << "\n";
+    throw CLI::RuntimeError(code != 0 ? code : 2);
+  }
+  return std::move(*c);
+}
+
+}  // namespace
+
+void run_mpi(const RunCommandOptions& o) {
+  parallel::Session session;
+  parallel::MpiDistribution distribution(session.comm());
+  const bool distributed = session.size() > 1 || !o.mpi_solver.empty();
+  casefile::Case c = read_everywhere(o, distribution, distributed);
+  run::RunOptions options = o.run;
+  parallel::PetscSolverOptions solver;
+  if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;
+  if (distributed) {
+    options.make_solver = [&](bool symmetric) { return parallel::make_petsc_solver(solver, symmetric, distribution); };
+    // The processes on one machine share its cores.
+    const int cores = static_cast<int>(std::thread::hardware_concurrency());
+    if (options.threads == 0) options.threads = std::max(1, cores / session.local_size());
+  }
+  try {
+    const run::RunSummary s = run::run_case(c, options);
+    if (session.rank() == 0) report(s);
+    if (!s.result.completed()) throw CLI::RuntimeError(1);
+  } catch (const CLI::RuntimeError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (session.size() == 1) throw;
+    const bool input = dynamic_cast<const InputError*>(&e) != nullptr;
+    std::cerr << "fibrane (process " << session.rank() << " of " << session.size() << "): "
+              << (input ? "error: " : "failed: ") << e.what() << "\n";
+    session.abort(input ? 2 : 1);
+  }
+}
+
+}  // namespace fibrane::app
+
+#else
+
+namespace fibrane::app {
+
+bool mpi_available() { return false; }
+
+void run_mpi(const RunCommandOptions&) {}
+
+}  // namespace fibrane::app
+
+#endif

@@ -1,0 +1,29 @@
+#pragma once
+// `fibrane run` in builds with PETSc (FIBRANE_PETSC): every process of `mpirun -np N` reads the case and
+// runs it; the model's elements and the linear solver are distributed (src/parallel).
+#include <string>
+
+#include "run/run.hpp"
+
+namespace fibrane::app {
+
+struct RunCommandOptions {
+  std::string case_file;
+  run::RunOptions run;
+  std::string mpi_solver;  // "mumps" or "gmres": the distributed solver; empty: by the process count
+};
+
+// Whether this fibrane was built with PETSc and MPI.
+bool mpi_available();
+
+// Runs the case under MPI: one process without --mpi-solver runs serially (the case's solver), several
+// processes (or --mpi-solver) distributed. Errors while reading the case, which every process meets
+// alike, end every process with exit code 2 (1 for other failures) and one message; an error during the
+// run ends the whole run (MPI_Abort), since the other processes may be waiting for the failed one.
+// Throws CLI::RuntimeError(1) when the run stopped before its end.
+void run_mpi(const RunCommandOptions& options);
+
+// Prints the run's closing line (stdout) and, for a run that stopped early, why (stderr).
+void report(const run::RunSummary& s);
+
+}  // namespace fibrane::app

@@ -1,0 +1,26 @@
+#pragma once
+// The sparsity pattern of this process's rows of a matrix that is the sum of the processes' summands
+// (each process's tangent summand, model/model.hpp), for the exact preallocation of PETSc's matrix.
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+#include "parallel/mpi_distribution.hpp"
+
+namespace fibrane::parallel {
+
+// Rows [first, first + begin.size() - 1) of the sum: row `first + r` has the sorted columns
+// columns[begin[r] ... begin[r + 1]).
+struct RowPattern {
+  int first = 0;
+  std::vector<int> begin{0}, columns;
+  int rows() const { return static_cast<int>(begin.size()) - 1; }
+};
+
+// Collective. This process's rows (distribution.range_begin) of the union of every process's `summand`
+// pattern, columns >= row only when `upper` (symmetric storage). Every summand must have a symmetric
+// pattern (element blocks): the columns of row i are then the rows of column i, so each process sends
+// the columns of its summand that fall into another process's range to that process.
+RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const MpiDistribution& distribution);
+
+}  // namespace fibrane::parallel

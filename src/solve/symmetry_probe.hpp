@@ -1,0 +1,29 @@
+#pragma once
+// Whether an assembled sparse matrix is symmetric to round-off: the values are compared with their mirror
+// entries through a map built once per sparsity pattern. Used where a model cannot promise a symmetric
+// tangent but the case at hand may have one (point moments about a fixed axis): the symmetric
+// factorisations are used while the values are symmetric.
+#include <vector>
+
+#include <Eigen/SparseCore>
+
+namespace fibrane::solve {
+
+class SymmetryProbe {
+ public:
+  // Builds the mirror map of a's pattern; afterwards structurally_symmetric() says whether it has one.
+  // The matrix must be square and compressed (otherwise it counts as structurally unsymmetric).
+  void build(const Eigen::SparseMatrix<double>& a);
+  bool structurally_symmetric() const { return structurally_symmetric_; }
+  // The number of entries of the pattern the map was built for (0 without a map).
+  Eigen::Index size() const { return static_cast<Eigen::Index>(mirror_.size()); }
+  // Whether every |a_ij - a_ji| <= 1e-12 max|a| (false without a map). `a` must have the pattern of
+  // the last build().
+  bool symmetric(const Eigen::SparseMatrix<double>& a) const;
+
+ private:
+  std::vector<int> mirror_;  // mirror_[k] = value index of the entry transposed to entry k
+  bool structurally_symmetric_ = false;
+};
+
+}  // namespace fibrane::solve
