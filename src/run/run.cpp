@@ -19,7 +19,6 @@
 #include "solve/load_stepping.hpp"
 
 namespace fibrane::run {
-namespace {
 
 std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& s, bool verbose) {
   solve::NewtonOptions newton = s.newton;
@@ -32,6 +31,8 @@ std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettin
   }
   return std::make_unique<solve::LoadStepping>(s.steps, newton);
 }
+
+namespace {
 
 // The case's stop rule: |quantity| below a fraction of its largest magnitude so far (e.g. the adhesion
 // energy at pull-off). The quantity is read from the model, like the history column of the same name.

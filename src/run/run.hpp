@@ -1,6 +1,7 @@
 #pragma once
 // Runs a case: the continuation method the case chose marches along the model's path, and after every
 // converged step the results are written and the case's stop rule is checked.
+#include <memory>
 #include <string>
 
 #include "case/case.hpp"
@@ -22,5 +23,9 @@ struct RunSummary {
 };
 
 RunSummary run_case(casefile::Case& c, const RunOptions& options);
+
+// The continuation method the case's `steps` block chose, with its controls (verbose: a line per Newton
+// iteration on stderr).
+std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& settings, bool verbose);
 
 }  // namespace fibrane::run
