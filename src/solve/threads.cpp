@@ -2,6 +2,7 @@
 #include <link.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,7 @@ namespace {
 using SetThreads = void (*)(int);
 using GetThreads = int (*)();
 
-// The openblas_set_num_threads / openblas_get_num_threads of every loaded library that has one.
+// The function `symbol` of every loaded library that has one, each once.
 template <class F>
 std::vector<F> blas_functions(const char* symbol) {
   std::vector<std::string> names;
@@ -35,14 +36,26 @@ std::vector<F> blas_functions(const char* symbol) {
     void* handle = dlopen(name.c_str(), RTLD_LAZY | RTLD_NOLOAD);
     if (!handle) continue;
     // dlsym on a library handle also searches its dependencies: keep each function once.
-    if (auto* f = reinterpret_cast<F>(dlsym(handle, symbol))) {
-      bool seen = false;
-      for (F g : out) seen |= g == f;
-      if (!seen) out.push_back(f);
-    }
+    if (auto* f = reinterpret_cast<F>(dlsym(handle, symbol)))
+      if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
     dlclose(handle);
   }
   return out;
+}
+
+// Looked up once: the libraries are loaded at start-up.
+const std::vector<SetThreads>& setters() {
+  static const std::vector<SetThreads> f = blas_functions<SetThreads>("openblas_set_num_threads");
+  return f;
+}
+
+const std::vector<GetThreads>& getters() {
+  static const std::vector<GetThreads> f = blas_functions<GetThreads>("openblas_get_num_threads");
+  return f;
+}
+
+void set_blas_threads(int n) {
+  for (SetThreads f : setters()) f(n);
 }
 
 }  // namespace
@@ -50,13 +63,25 @@ std::vector<F> blas_functions(const char* symbol) {
 void set_thread_count(int n) {
   if (n <= 0) return;
   omp_set_num_threads(n);
-  for (SetThreads f : blas_functions<SetThreads>("openblas_set_num_threads")) f(n);
+  set_blas_threads(n);
 }
 
 int blas_thread_count() {
   int most = -1;
-  for (GetThreads f : blas_functions<GetThreads>("openblas_get_num_threads")) most = std::max(most, f());
+  for (GetThreads f : getters()) most = std::max(most, f());
   return most;
+}
+
+BlasThreadsForFactor::BlasThreadsForFactor(long factor_nonzeros) {
+  if (factor_nonzeros >= kSmallFactorEntries) return;
+  const int now = blas_thread_count();
+  if (now <= 1) return;
+  restore_ = now;
+  set_blas_threads(1);
+}
+
+BlasThreadsForFactor::~BlasThreadsForFactor() {
+  if (restore_ > 0) set_blas_threads(restore_);
 }
 
 }  // namespace fibrane::solve
