@@ -1,13 +1,21 @@
 #include "case/case_reader.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 
+#include "case/case_checks.hpp"
 #include "case/case_conditions.hpp"
 #include "case/case_geometry.hpp"
 #include "case/case_laws.hpp"
+#include "case/case_limits.hpp"
+#include "case/case_settings.hpp"
 #include "model/observables.hpp"
 
 namespace fibrane::casefile {
@@ -44,21 +52,34 @@ void read_functions(Model& m, const io::YamlNode& node) {
   }
 }
 
+// The geometry of a body: `read` builds it; a spline error the reader's own checks did not catch is
+// reported at the geometry block.
+template <class Read>
+auto read_geometry(const io::YamlNode& node, Read&& read) {
+  try {
+    return read(node["geometry"], node.optional("refine"));
+  } catch (const std::invalid_argument& e) {
+    node["geometry"].fail_message(std::string("invalid geometry: ") + e.what());
+  }
+}
+
 void read_shell(Model& m, const io::YamlNode& node) {
-  const std::string name = node["name"].as_string();
-  auto surface = read_surface(node["geometry"], node.optional("refine"));
+  const std::string name = read_safe_name(node["name"]);
+  auto surface = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
+    return read_surface(g, r, model_size(m));
+  });
   shell::ShellSection section;
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
   section.young = mat["young"].positive();
   section.poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
   mat.reject_unknown_keys();
+  const int degree = std::max(surface.degree(0), surface.degree(1));
   ShellBody body(name, std::move(surface), section);
-  if (auto g = node.optional("gauss_points")) {
-    body.gauss_points[0] = body.gauss_points[1] = g->positive_int();
-  }
+  if (auto g = node.optional("gauss_points")) body.gauss_points[0] = body.gauss_points[1] = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
   m.add_shell(std::move(body));
+  check_fits(model_size(m), node["geometry"]);
 }
 
 beam::BeamSection read_section(const io::YamlNode& node, double young, double poisson, double& radius) {
@@ -75,26 +96,47 @@ beam::BeamSection read_section(const io::YamlNode& node, double young, double po
   return beam::BeamSection::general(young, poisson, area, i2, i3, it);
 }
 
+// A beam is a slender body: a section radius above the axis length is no beam.
+void check_slender(const io::YamlNode& section, double radius, double length) {
+  if (radius <= length) return;
+  const auto at = section.has("circle") ? section["circle"]["radius"] : section["area"];
+  at.fail_message(fmt::format("the section (radius {}) is larger than the beam's length {}: a beam model needs a "
+                              "slender body",
+                              format_number(radius), format_number(length)));
+}
+
 void read_beam(Model& m, const io::YamlNode& node) {
-  const std::string name = node["name"].as_string();
-  auto curve = read_curve(node["geometry"], node.optional("refine"));
+  const std::string name = read_safe_name(node["name"]);
+  auto curve = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
+    return read_curve(g, r, model_size(m));
+  });
   const auto mat = node["material"];
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
   mat.reject_unknown_keys();
   double radius = 0.0;
   const auto section = read_section(node["section"], young, poisson, radius);
+  check_slender(node["section"], radius > 0 ? radius : std::sqrt(section.area / std::numbers::pi), curve_length(curve));
   Eigen::Vector3d director = Eigen::Vector3d::Zero();
   if (auto d = node.optional("director")) {
     director = d->as_vector3();
     if (director.norm() == 0.0) d->fail("a non-zero vector");
+    check_director(curve, director, *d);
   }
-  BeamBody body(name, std::move(curve), section, director);
+  const int degree = curve.degree();
+  auto body = [&] {
+    try {
+      return BeamBody(name, std::move(curve), section, director);
+    } catch (const InputError& e) {
+      node["geometry"].fail_message(e.what());
+    }
+  }();
   body.section_radius = radius;
   if (auto share = node.optional("symmetry_share")) body.share = share->in_range(0.0, 1.0, true, false);
-  if (auto g = node.optional("gauss_points")) body.gauss_points = g->positive_int();
+  if (auto g = node.optional("gauss_points")) body.gauss_points = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
   m.add_beam(std::move(body));
+  check_fits(model_size(m), node["geometry"]);
 }
 
 void read_interaction(Model& m, const io::YamlNode& node) {
@@ -110,7 +152,7 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   if (b->section_radius <= 0.0)
     beam_node.fail_message("beam '" + b->name() + "' needs a circular section (section: {circle: {radius: R}}): the "
                            "disk-plate law integrates over a disk");
-  const std::string name = node.get("name", b->name() + "_" + shell->name());
+  const std::string name = node.has("name") ? read_safe_name(node["name"]) : b->name() + "_" + shell->name();
   const std::string f = node.get("formulation", std::string("RF2"));
   if (auto fn = node.optional("formulation")) fn->as_choice({"FF", "RF1", "RF2"});
   const auto formulation = f == "FF" ? interaction::Formulation::FF
@@ -139,15 +181,6 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   if (soft_width > 0) m.couplings.back().enable_soft_minimum(soft_width, soft_below);
 }
 
-void check_unique_names(const Model& m, const io::YamlNode& root) {
-  std::vector<std::string> names;
-  for (const auto& s : m.shells) names.push_back(s.name());
-  for (const auto& b : m.beams) names.push_back(b.name());
-  for (std::size_t i = 0; i < names.size(); ++i)
-    for (std::size_t j = i + 1; j < names.size(); ++j)
-      if (names[i] == names[j]) root.fail_message("two bodies are named '" + names[i] + "'");
-}
-
 template <class F>
 void for_each_entry(const std::optional<io::YamlNode>& list, F&& f) {
   if (!list) return;
@@ -155,66 +188,26 @@ void for_each_entry(const std::optional<io::YamlNode>& list, F&& f) {
   for (std::size_t i = 0; i < list->size(); ++i) f(list->at(i));
 }
 
-void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
-  if (!node) return;
-  auto& s = run.steps;
-  s.t_end = node->get("t_end", s.t_end);
-  if (auto v = node->optional("t_end")) v->positive();
-  s.dt_initial = node->has("dt") ? (*node)["dt"].positive() : s.dt_initial;
-  s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
-  s.dt_min = node->has("dt_min") ? (*node)["dt_min"].positive() : s.dt_min;
-  if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
-  if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
-  s.easy_iterations = node->get("easy_iterations", s.easy_iterations);
-  s.growth = node->get("growth", s.growth);
-  s.cutback = node->get("cutback", s.cutback);
-  if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
-  if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
-  s.max_steps = node->get("max_steps", s.max_steps);
-  if (auto method = node->optional("method"))
-    run.method = method->as_choice({"load_stepping", "linear"}) == "linear" ? Method::linear : Method::load_stepping;
-  if (auto linear = node->optional("linear")) {  // the short form of method: linear
-    if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
-    if (linear->as_bool()) run.method = Method::linear;
+// Checks steps.stop.column against the quantities the run reports.
+void check_stop_column(const RunSettings& run, const Model& m, const io::YamlNode& root) {
+  if (run.stop_column.empty()) return;
+  std::string known;
+  for (const auto& o : model::observables(m)) {
+    if (o.name == run.stop_column) return;
+    known += (known.empty() ? "" : ", ") + o.name;
   }
-  if (auto stop = node->optional("stop")) {
-    if (stop->has("column") || stop->has("below_fraction_of_peak")) {
-      run.stop_column = (*stop)["column"].as_string();
-      run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
-    }
-    s.stop_at_limit_point = stop->get("at_limit_point", false);
-    stop->reject_unknown_keys();
-  }
-  s.extrapolate = node->get("extrapolate", s.extrapolate);
-  run.newton.max_iterations = node->get("max_iterations", run.newton.max_iterations);
-  run.newton.tol_relative = node->get("tolerance", run.newton.tol_relative);
-  run.newton.tol_absolute = node->get("tolerance_absolute", run.newton.tol_absolute);
-  run.newton.tol_increment = node->get("tolerance_increment", run.newton.tol_increment);
-  if (node->has("line_search")) {
-    run.newton.line_search = (*node)["line_search"].as_int();
-    if (run.newton.line_search < 0 || run.newton.line_search > 30)
-      (*node)["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
-  }
-  if (node->has("reuse_factorization"))
-    run.newton.reuse_below = (*node)["reuse_factorization"].in_range(0.0, 1.0, false, true);
-  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
-                                          : run.linear_solver;
-  node->reject_unknown_keys();
+  root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
 }
 
-void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, const std::string& name) {
-  out.directory = "out/" + name;
-  if (!node) return;
-  out.directory = node->get("directory", out.directory);
-  out.vtk = node->get("vtk", out.vtk);
-  out.vtk_every = node->has("vtk_every") ? (*node)["vtk_every"].positive_int() : out.vtk_every;
-  out.samples = node->has("samples") ? (*node)["samples"].positive_int() : out.samples;
-  if (auto cells = node->optional("vtk_cells")) {
-    const std::string which = cells->as_choice({"bezier", "sampled", "both"});
-    out.bezier = which != "sampled";
-    out.sampled = which != "bezier";
-  }
-  node->reject_unknown_keys();
+// Reads the constraints, recording which entry added which of the model's constraints.
+ConstraintOrigins read_constraints(Model& m, const io::YamlNode& root) {
+  ConstraintOrigins origins;
+  for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) {
+    origins.first.push_back(m.constraints.num_added());
+    origins.entries.push_back(n);
+    read_constraint(m, n);
+  });
+  return origins;
 }
 
 }  // namespace
@@ -232,28 +225,25 @@ Case read_case(const std::string& path) {
   for_each_entry(root.optional("shells"), [&](const io::YamlNode& n) { read_shell(m, n); });
   for_each_entry(root.optional("beams"), [&](const io::YamlNode& n) { read_beam(m, n); });
   if (m.shells.empty() && m.beams.empty()) root.fail_message("the case defines no body: add 'shells' or 'beams'");
-  check_unique_names(m, root);
-  for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) { read_constraint(m, n); });
+  check_output_names(m, root);
+  const ConstraintOrigins origins = read_constraints(m, root);
   for_each_entry(root.optional("loads"), [&](const io::YamlNode& n) { read_load(m, n); });
   for_each_entry(root.optional("interactions"), [&](const io::YamlNode& n) { read_interaction(m, n); });
+  check_output_names(m, root);
   for_each_entry(root.optional("monitors"), [&](const io::YamlNode& n) { read_monitor(m, n); });
+  check_monitor_names(m, root);
   read_steps(c.run, root.optional("steps"));
-  if (!c.run.stop_column.empty()) {
-    std::string known;
-    bool found = false;
-    for (const auto& o : model::observables(m)) {
-      known += (known.empty() ? "" : ", ") + o.name;
-      found |= o.name == c.run.stop_column;
-    }
-    if (!found) root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
-  }
+  check_stop_column(c.run, m, root);
   read_output(c.output, root.optional("output"), c.name);
   root.reject_unknown_keys();
   try {
     m.finalize();
+  } catch (const solve::ConstraintError& e) {
+    throw explain_constraint_error(e, m, origins, path);
   } catch (const InputError& e) {
     throw InputError(path + ": constraints: " + e.what());
   }
+  check_free_bodies(m, root);
   return c;
 }
 
