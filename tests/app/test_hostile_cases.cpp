@@ -5,6 +5,8 @@
 // each runs in an empty working directory that must hold only the case file afterwards.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -80,6 +82,33 @@ INSTANTIATE_TEST_SUITE_P(Corpus, HostileCase, ::testing::ValuesIn(corpus()), [](
 });
 
 TEST(HostileCorpus, HasAtLeastSixtyCases) { EXPECT_GE(corpus().size(), 60u); }
+
+// Cases too large to keep in the repository are written here: a 50 MB list under an unknown key (refused by
+// size before parsing) and a 1.2 million-item list under 16 MiB (refused by its node count).
+TEST(HostileGenerated, LargeFilesAreRefusedQuickly) {
+  if (fibrane_binary().empty()) GTEST_SKIP();
+  const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / "generated";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::pair<const char*, std::size_t> cases[] = {{"huge.yaml", 25'000'000}, {"many.yaml", 1'200'000}};
+  for (const auto& [name, items] : cases) {
+    {
+      std::ofstream out(dir / name);
+      out << "shells: []\njunk: [";
+      for (std::size_t i = 0; i < items; ++i) out << (i ? ",0" : "0");
+      out << "]\n";
+    }
+    const auto r = run_cli_command("cd '" + dir.string() + "' && bash -c \"" + limits() + " '" + fibrane_binary() +
+                                   "' run " + name + " -q\"");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(std::string(name) + ":"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(items > 10'000'000 ? "larger than 16 MiB" : "more than 1000000 YAML nodes"),
+              std::string::npos)
+        << r.output;
+    fs::remove(dir / name);
+    EXPECT_TRUE(fs::is_empty(dir)) << "nothing may be written";
+  }
+}
 
 }  // namespace
 }  // namespace fibrane::testing
