@@ -69,6 +69,7 @@ class Model : public solve::NonlinearSystem {
   void reject() override;
   std::string failure_hint() const override;
   double residual_scale() const override { return load_scale_; }
+  double roundoff_floor() const override { return roundoff_floor_; }
   bool symmetric() const override;
 
   // State of the last evaluate().
@@ -89,13 +90,17 @@ class Model : public solve::NonlinearSystem {
     double PhaseTimes::*time;  // the phase its evaluation counts towards
   };
   void rebuild_variable_elements();
+  // eps * sqrt(sum_ij (K_ij x_j)^2) of the current tangent, x_j = |reference coordinate| + |u_j| (twists:
+  // max(1, |u_j|)): the residual that rounding the configuration alone causes.
+  double estimate_roundoff_floor() const;
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
   std::vector<std::unique_ptr<Contribution>> extra_;
   solve::SparseAssembler assembler_;
   std::vector<int> constrained_dofs_;
   Eigen::VectorXd u_, prescribed_rate_;
-  double t_ = 0.0, load_scale_ = 0.0;
+  std::vector<double> reference_magnitude_;  // per DOF: |reference coordinate|, 1 for a twist
+  double t_ = 0.0, load_scale_ = 0.0, roundoff_floor_ = 0.0;
   double energies_[4] = {0, 0, 0, 0};
   Status status_;
   bool finalized_ = false;
