@@ -40,8 +40,9 @@ void print_json(const std::string& law, const laws::LawValue& v, const std::stri
                                                    {"reduced_d2_distance_cos", v.reduced_dc}};
   for (const auto& [name, x] : values)
     if (!std::isfinite(x))
-      throw std::runtime_error("the " + law + " law gave a non-finite " + name + " (" + number(x) +
-                               ") at these arguments: outside the range where it can be evaluated in double precision");
+      throw std::runtime_error("the " + law + " law gave " + (std::isnan(x) ? "no number" : "an infinite number") +
+                               " for " + name + " at these arguments: outside the range where it can be evaluated "
+                               "in double precision");
   std::cout << "{\"law\": \"" << law << "\"" << extra << ", \"value\": " << number(v.value)
             << ", \"d_distance\": " << number(v.d_d) << ", \"d_cos\": " << number(v.d_c)
             << ", \"d2_distance\": " << number(v.d_dd) << ", \"d2_cos\": " << number(v.d_cc)

@@ -19,7 +19,7 @@ void register_run_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
   cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
-  cmd->add_option("--threads", opt->run.threads, "OpenMP threads (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", opt->run.threads, "OpenMP threads (default: all cores)")->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
   cmd->add_option("--max-steps", opt->max_steps, "Stop after at most this many steps (default: the case's steps.max_steps)")
       ->check(CLI::PositiveNumber);
