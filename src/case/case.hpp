@@ -4,6 +4,8 @@
 #include <string>
 
 #include "model/model.hpp"
+#include "solve/arc_length.hpp"
+#include "solve/generalized_alpha.hpp"
 #include "solve/load_stepping.hpp"
 #include "solve/nonlinear.hpp"
 
@@ -20,11 +22,13 @@ struct OutputSettings {
 };
 
 // The continuation methods a case can choose (steps.method).
-enum class Method { load_stepping, linear };
+enum class Method { load_stepping, linear, arc_length, dynamics };
 
 struct RunSettings {
   Method method = Method::load_stepping;
   solve::StepControl steps;
+  solve::ArcLengthControl arc_length;  // t_start, t_end and max_steps follow `steps`
+  solve::TransientOptions dynamics;    // time steps: `steps` (t is time)
   solve::NewtonOptions newton;
   std::string linear_solver = "auto";
   // Stop early once |monitored value| falls below this fraction of its largest magnitude so far (e.g. the

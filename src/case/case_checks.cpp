@@ -56,17 +56,21 @@ void check_output_names(const model::Model& m, const io::YamlNode& root) {
 void check_monitor_names(const model::Model& m, const io::YamlNode& root) {
   if (m.monitors.empty()) return;
   const auto entries = root["monitors"];
-  std::set<std::string> builtin{"step", "t", "load_factor", "iterations", "residual"};
+  // The columns output::history_columns writes besides the observables (the energy account in dynamic runs).
+  std::set<std::string> builtin{"step", "t", "load_factor", "iterations", "residual", "negative_eigenvalues",
+                                "limit_point", "kinetic_energy", "interaction_energy", "external_work",
+                                "prescribed_work", "damping_work", "energy_balance"};
   const auto observed = model::observables(m);  // the built-in ones, then one per monitor
   for (std::size_t k = 0; k + m.monitors.size() < observed.size(); ++k) builtin.insert(observed[k].name);
   std::set<std::string> seen;
   for (std::size_t i = 0; i < m.monitors.size(); ++i) {
     const auto node = entries.at(i)["name"];
     read_safe_name(node);
-    if (builtin.count(m.monitors[i].name))
+    if (builtin.count(m.monitors[i]->name()))
       node.fail("a monitor name other than the built-in history columns (step, t, load_factor, iterations, "
-                "residual, strain_energy, <interaction>_energy, <interaction>_force_x/y/z)");
-    if (!seen.insert(m.monitors[i].name).second) node.fail("a monitor name not used before");
+                "residual, negative_eigenvalues, limit_point, strain_energy, <interaction>_energy, "
+                "<interaction>_force_x/y/z, and the energy account of dynamic runs)");
+    if (!seen.insert(m.monitors[i]->name()).second) node.fail("a monitor name not used before");
   }
 }
 

@@ -1,5 +1,6 @@
 #include "case/case_conditions.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "case/case_sites.hpp"
@@ -21,6 +22,8 @@ int read_function_ref(const Model& m, const io::YamlNode& entry) {
 }
 
 namespace {
+
+void read_constraint_entry(Model& m, const io::YamlNode& entry);
 
 std::vector<int> read_components(const BodyRef& b, const io::YamlNode& node) {
   std::vector<int> out;
@@ -98,13 +101,39 @@ void read_link(Model& m, const io::YamlNode& link, const io::YamlNode& entry) {
   lc.value = link.get("value", 0.0);
   lc.curve = read_function_ref(m, link);
   link.reject_unknown_keys();
+  (void)entry.optional("name");  // read by name_constraint()
   entry.reject_unknown_keys();
   m.constraints.add(lc);
+}
+
+// Records the DOFs the constraints added since `first` touch (slaves and masters) under the entry's name.
+void name_constraint(Model& m, const io::YamlNode& entry, int first) {
+  const auto name = entry.optional("name");
+  if (!name) return;
+  const std::string n = name->as_string();
+  if (m.named_constraints.count(n)) name->fail("a constraint name not used before");
+  std::vector<int> dofs;
+  for (int i = first; i < m.constraints.num_added(); ++i) {
+    const auto& c = m.constraints.added(i);
+    dofs.push_back(c.slave);
+    for (const auto& [d, coef] : c.masters) dofs.push_back(d);
+  }
+  std::sort(dofs.begin(), dofs.end());
+  dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+  m.named_constraints[n] = std::move(dofs);
 }
 
 }  // namespace
 
 void read_constraint(Model& m, const io::YamlNode& entry) {
+  const int first = m.constraints.num_added();
+  read_constraint_entry(m, entry);
+  name_constraint(m, entry, first);
+}
+
+namespace {
+
+void read_constraint_entry(Model& m, const io::YamlNode& entry) {
   if (auto link = entry.optional("link")) return read_link(m, *link, entry);
   const BodyRef b = find_body(m, entry["body"]);
   const auto at = entry["at"];
@@ -162,7 +191,9 @@ void read_constraint(Model& m, const io::YamlNode& entry) {
     any = true;
   }
   if (!any) entry.fail_message("a constraint needs at least one of 'fix', 'prescribe', 'clamp', 'symmetry'");
+  (void)entry.optional("name");  // read by name_constraint()
   entry.reject_unknown_keys();
 }
 
+}  // namespace
 }  // namespace fibrane::casefile

@@ -1,4 +1,4 @@
-// The loads and monitors of a case file. Distributed loads are integrated by the body they act on
+// The loads of a case file. Distributed loads are integrated by the body they act on
 // (ShellBody::surface_load, ..., BeamBody::line_load); here they are only read and attached.
 #include <cmath>
 
@@ -76,43 +76,14 @@ void read_load(Model& m, const io::YamlNode& entry) {
     load = point_force(m, b, entry);
   } else {  // point_moment
     const auto& beam = m.beams[b.index];
-    m.moments.emplace_back(beam, beam_parameter(beam, entry["at"]), beam.share * entry["moment"].as_vector3(), function);
+    const bool follower = entry.get("follower", false);
+    m.moments.emplace_back(beam, beam_parameter(beam, entry["at"]), beam.share * entry["moment"].as_vector3(), function,
+                           follower);
   }
   load.function = function;
   if (b.is_beam) load.values *= m.beams[b.index].share;  // loads on a beam count with its share
   entry.reject_unknown_keys();
   if (!load.dofs.empty()) m.nodal_loads.loads.push_back(std::move(load));
-}
-
-void read_monitor(Model& m, const io::YamlNode& entry) {
-  model::Monitor mon;
-  mon.name = entry["name"].as_string();
-  for (const auto& other : m.monitors)
-    if (other.name == mon.name) entry["name"].fail("a monitor name not used before");
-  const std::string type = entry["type"].as_choice({"displacement", "position", "reaction"});
-  const BodyRef b = find_body(m, entry["body"]);
-  const int c = component(b, entry["component"]);
-  const auto where = sites(m, b, entry["at"]);
-  if (type == "reaction") {
-    mon.source = model::Monitor::Source::reaction;
-    for (const auto& s : where) {
-      if (s.size() != 1 || s[0].second != 1.0)
-        entry["at"].fail("control points (an edge, a corner, an end or all) for a reaction sum");
-      mon.weights.emplace_back(m.dofs.dof(b.block, s[0].first, c), 1.0);
-    }
-  } else {
-    if (where.size() != 1) entry["at"].fail("a single point (a corner, a parametric point, an end or xi)");
-    for (const auto& [cp, w] : where[0]) {
-      mon.weights.emplace_back(m.dofs.dof(b.block, cp, c), w);
-      if (type == "position" && c < 3) {
-        const Eigen::Vector3d X = b.is_beam ? m.beams[b.index].curve.control_points()[cp]
-                                            : m.shells[b.index].surface.control_points()[cp];
-        mon.offset += w * X[c];
-      }
-    }
-  }
-  entry.reject_unknown_keys();
-  m.monitors.push_back(std::move(mon));
 }
 
 }  // namespace fibrane::casefile

@@ -15,7 +15,8 @@
 #include "case/case_geometry.hpp"
 #include "case/case_laws.hpp"
 #include "case/case_limits.hpp"
-#include "case/case_settings.hpp"
+#include "case/case_output.hpp"
+#include "case/case_steps.hpp"
 #include "model/observables.hpp"
 
 namespace fibrane::casefile {
@@ -28,13 +29,19 @@ using model::ShellBody;
 namespace {
 
 void read_functions(Model& m, const io::YamlNode& node) {
-  if (!node.is_map()) node.fail("a map of name: {linear: slope} | {constant: value} | {table: [[t, f], ...]}");
+  if (!node.is_map())
+    node.fail("a map of name: {linear: slope} | {constant: value} | {table: [[t, f], ...]} | "
+              "{smooth_ramp: {slope, duration}}");
   for (const auto& name : node.keys()) {
     const auto f = node[name];
     if (auto l = f.optional("linear")) {
       m.functions.add(name, LoadFunction::linear(l->as_double()));
     } else if (auto c = f.optional("constant")) {
       m.functions.add(name, LoadFunction::constant(c->as_double()));
+    } else if (auto r = f.optional("smooth_ramp")) {
+      const double slope = (*r)["slope"].as_double(), duration = (*r)["duration"].positive();
+      r->reject_unknown_keys();
+      m.functions.add(name, LoadFunction::smooth_ramp(slope, duration));
     } else if (auto t = f.optional("table")) {
       std::vector<std::pair<double, double>> pts;
       if (!t->is_sequence() || t->size() == 0) t->fail("a list of [t, f] pairs");
@@ -46,7 +53,7 @@ void read_functions(Model& m, const io::YamlNode& node) {
       }
       m.functions.add(name, LoadFunction::table(std::move(pts)));
     } else {
-      f.fail("one of {linear: slope}, {constant: value}, {table: [[t, f], ...]}");
+      f.fail("one of {linear: slope}, {constant: value}, {table: [[t, f], ...]}, {smooth_ramp: {slope, duration}}");
     }
     f.reject_unknown_keys();
   }
@@ -73,9 +80,11 @@ void read_shell(Model& m, const io::YamlNode& node) {
   const auto mat = node["material"];
   section.young = mat["young"].positive();
   section.poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
+  const double density = mat.has("density") ? mat["density"].positive() : 0.0;
   mat.reject_unknown_keys();
   const int degree = std::max(surface.degree(0), surface.degree(1));
   ShellBody body(name, std::move(surface), section);
+  body.density = density;
   if (auto g = node.optional("gauss_points")) body.gauss_points[0] = body.gauss_points[1] = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
   m.add_shell(std::move(body));
@@ -113,6 +122,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
   const auto mat = node["material"];
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
+  const double density = mat.has("density") ? mat["density"].positive() : 0.0;
   mat.reject_unknown_keys();
   double radius = 0.0;
   const auto section = read_section(node["section"], young, poisson, radius);
@@ -132,6 +142,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
     }
   }();
   body.section_radius = radius;
+  body.density = density;
   if (auto share = node.optional("symmetry_share")) body.share = share->in_range(0.0, 1.0, true, false);
   if (auto g = node.optional("gauss_points")) body.gauss_points = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
@@ -203,7 +214,7 @@ void check_stop_column(const RunSettings& run, const Model& m, const io::YamlNod
 ConstraintOrigins read_constraints(Model& m, const io::YamlNode& root) {
   ConstraintOrigins origins;
   for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) {
-    origins.first.push_back(m.constraints.num_added());
+    origins.first.push_back(static_cast<std::size_t>(m.constraints.num_added()));
     origins.entries.push_back(n);
     read_constraint(m, n);
   });
@@ -234,7 +245,16 @@ Case read_case(const std::string& path) {
   check_monitor_names(m, root);
   read_steps(c.run, root.optional("steps"));
   check_stop_column(c.run, m, root);
+  if (c.run.method == Method::dynamics) {
+    m.inertia = true;
+    for (const auto& s : m.shells)
+      if (!(s.density > 0)) root.fail_message("a dynamic run needs every body's material density: shell '" + s.name() + "' has none");
+    for (const auto& b : m.beams)
+      if (!(b.density > 0)) root.fail_message("a dynamic run needs every body's material density: beam '" + b.name() + "' has none");
+  }
   read_output(c.output, root.optional("output"), c.name);
+  if (c.output.vtk && c.output.sampled)
+    for (auto& b : m.beams) b.set_output_samples(c.output.samples);
   root.reject_unknown_keys();
   try {
     m.finalize();
@@ -243,7 +263,7 @@ Case read_case(const std::string& path) {
   } catch (const InputError& e) {
     throw InputError(path + ": constraints: " + e.what());
   }
-  check_free_bodies(m, root);
+  if (c.run.method != Method::dynamics) check_free_bodies(m, root);  // inertia holds a free body in time
   return c;
 }
 

@@ -170,6 +170,10 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
 void BeamBody::accept(const State& state) {
   const Eigen::VectorXd& u = state.u;
   const solve::DofMap& dofs = state.dofs;
+  for (std::size_t p = 0; p < probe_xi_.size(); ++p) {
+    const beam::BeamDofs q = current(elements[element_of(probe_xi_[p])].control_points, u, dofs);
+    beam::update_point_state(probe_states_[p], basis_matrix(curve.basis(probe_xi_[p], 2)), q);
+  }
   const auto g = spline::gauss_legendre(gauss());
   for (std::size_t e = 0; e < elements.size(); ++e) {
     const auto& el = elements[e];
@@ -179,6 +183,74 @@ void BeamBody::accept(const State& state) {
       beam::update_point_state(states[e][i], basis_matrix(curve.basis(xi, 2)), q);
     }
   }
+}
+
+int BeamBody::add_probe(double xi) {
+  probe_xi_.push_back(xi);
+  probe_states_.push_back(state_at(xi));
+  const auto& st = probe_states_.back();
+  Eigen::Matrix3d reference;
+  reference << st.frame_t, st.frame_d2, st.frame_d3;
+  probe_reference_.push_back(reference);
+  return static_cast<int>(probe_xi_.size()) - 1;
+}
+
+void BeamBody::set_output_samples(int samples) {
+  output_samples_ = samples;
+  output_first_ = static_cast<int>(probe_xi_.size());
+  for (const auto& el : elements)
+    for (int i = 0; i <= samples; ++i) {
+      // Just inside the element, so that the basis (and the frame) belong to its span.
+      const double s = std::clamp(static_cast<double>(i) / samples, 1e-12, 1.0 - 1e-12);
+      add_probe(el.xi0 + (el.xi1 - el.xi0) * s);
+    }
+}
+
+int BeamBody::add_twist_probes(double xi) {
+  const auto g = spline::gauss_legendre(gauss());
+  const double a = elements[element_of(xi)].xi0, j = 0.5 * (xi - a);
+  int first = -1;
+  for (double gp : g.points) {
+    const int p = add_probe(a + (gp + 1.0) * j);
+    if (first < 0) first = p;
+  }
+  return first;
+}
+
+beam::BeamPointOutput BeamBody::probe_output(int probe, const Eigen::VectorXd& u, const solve::DofMap& dofs) const {
+  const double xi = probe_xi_[probe];
+  const beam::BeamDofs q = current(elements[element_of(xi)].control_points, u, dofs);
+  return beam::evaluate_point(section, basis_matrix(curve.basis(xi, 2)), q, probe_states_[probe]);
+}
+
+Eigen::Vector3d BeamBody::probe_rotation(int probe, const beam::BeamPointOutput& out) const {
+  Eigen::Matrix3d current;
+  current << out.t, out.a2, out.a3;
+  const Eigen::AngleAxisd rotation(Eigen::Matrix3d(current * probe_reference_[probe].transpose()));
+  return rotation.angle() * rotation.axis();
+}
+
+double BeamBody::twist_angle(double xi, int first_twist_probe, const Eigen::VectorXd& u,
+                             const solve::DofMap& dofs) const {
+  const auto g = spline::gauss_legendre(gauss());
+  const int last = element_of(xi);
+  double angle = 0;
+  for (int e = 0; e < last; ++e) {  // whole elements before xi: their quadrature points
+    const auto& el = elements[e];
+    const beam::BeamDofs q = current(el.control_points, u, dofs);
+    const double j = 0.5 * (el.xi1 - el.xi0);
+    for (std::size_t i = 0; i < g.points.size(); ++i) {
+      const double x = el.xi0 + (g.points[i] + 1.0) * j;
+      angle += g.weights[i] * j * arc_length_weight(x) *
+               beam::evaluate_point(section, basis_matrix(curve.basis(x, 2)), q, states[e][i]).kappa[0];
+    }
+  }
+  const double j = 0.5 * (xi - elements[last].xi0);  // the part of xi's element: the twist probes
+  for (std::size_t i = 0; i < g.points.size(); ++i) {
+    const int p = first_twist_probe + static_cast<int>(i);
+    angle += g.weights[i] * j * arc_length_weight(probe_xi_[p]) * probe_output(p, u, dofs).kappa[0];
+  }
+  return angle;
 }
 
 Eigen::VectorXd BeamBody::line_load(const Eigen::Vector3d& f) const {

@@ -32,6 +32,7 @@ class BeamBody final : public Contribution {
   double section_radius = 0.0;  // radius of a circular section (interactions need it); 0: other section
   int block = -1;
   int gauss_points = 0;  // 0 means degree + 1
+  double density = 0;    // mass per unit volume (dynamics only)
   std::vector<BeamElement> elements;
   std::vector<std::vector<beam::BeamPointState>> states;  // [element][quadrature point]
 
@@ -52,6 +53,24 @@ class BeamBody final : public Contribution {
   // Consistent nodal forces (x, y, z per control point, control-point major) of a force per unit
   // reference length along the whole beam.
   Eigen::VectorXd line_load(const Eigen::Vector3d& force) const;
+
+  // Probes: frame states at further points (monitors, output samples), updated with the quadrature
+  // points' after every converged step, so that section quantities there are exact, not those of the
+  // nearest quadrature point. Returns the probe's index.
+  int add_probe(double xi);
+  // Probes at the Gauss points of [start of xi's element, xi], for twist_angle(); returns the first index.
+  int add_twist_probes(double xi);
+  // Probes at the `samples` + 1 sample points of every element (just inside its ends) for output; their
+  // first index, or -1 if set_output_samples was not called with this count.
+  void set_output_samples(int samples);
+  int output_probes(int samples) const { return samples == output_samples_ ? output_first_ : -1; }
+  beam::BeamPointOutput probe_output(int probe, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
+  // Rotation vector (axis times angle in [0, pi]) of the section triad (t, a2, a3) in `out` from the
+  // probe's reference triad.
+  Eigen::Vector3d probe_rotation(int probe, const beam::BeamPointOutput& out) const;
+  // Twist of the section at xi relative to the start: the integral of the twist rate over the reference
+  // arc length (quadrature points of the elements before xi, twist probes from `first_twist_probe` on).
+  double twist_angle(double xi, int first_twist_probe, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   // Frame state of an arbitrary parameter (for point moments), consistent with initialise_states().
   beam::BeamPointState state_at(double xi) const;
   int element_of(double xi) const;
@@ -60,6 +79,11 @@ class BeamBody final : public Contribution {
 
  private:
   std::string name_;
+  int output_samples_ = -1, output_first_ = -1;
+  std::vector<double> probe_xi_;
+  std::vector<beam::BeamPointState> probe_states_;
+  std::vector<Eigen::Matrix3d> probe_reference_;  // columns T, A2, A3 at creation
+  double arc_length_weight(double xi) const { return curve.derivative(xi, 1).norm(); }
   // Rotation-minimising frame sampled densely along the axis (double reflection), for reference_director.
   std::vector<double> rmf_xi_;
   std::vector<Eigen::Vector3d> rmf_a2_;

@@ -48,6 +48,12 @@ class ElementSink {
  public:
   ElementSink(solve::SparseAssembler& a, int first, bool with_tangent, bool with_rate)
       : assembler_(a), first_(first), with_tangent_(with_tangent), with_rate_(with_rate) {}
+  // Also accumulates -r into `external` (full vector): the external force f_ext of an external
+  // contribution (r = -f_ext), whose elements have the DOF lists `element_dofs`. Not thread-safe.
+  void record_external(Eigen::VectorXd* external, const std::vector<std::vector<int>>* element_dofs) {
+    external_ = external;
+    element_dofs_ = element_dofs;
+  }
   bool with_tangent() const { return with_tangent_; }
   // Whether d residual / d t is being assembled (arc-length continuation): contributions whose residual
   // depends on t explicitly (loads) add that derivative with add_rate(). The part that prescribed values
@@ -65,6 +71,8 @@ class ElementSink {
   solve::SparseAssembler& assembler_;
   int first_;
   bool with_tangent_, with_rate_;
+  Eigen::VectorXd* external_ = nullptr;
+  const std::vector<std::vector<int>>* element_dofs_ = nullptr;
 };
 
 class Contribution {

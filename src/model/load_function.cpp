@@ -1,6 +1,8 @@
 #include "model/load_function.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 namespace fibrane::model {
@@ -30,10 +32,24 @@ LoadFunction LoadFunction::table(std::vector<std::pair<double, double>> points) 
   return f;
 }
 
+LoadFunction LoadFunction::smooth_ramp(double slope, double duration) {
+  if (!(duration > 0)) throw std::invalid_argument("a smooth ramp needs a positive duration");
+  LoadFunction f;
+  f.kind_ = Kind::smooth_ramp;
+  f.value_ = slope;
+  f.duration_ = duration;
+  return f;
+}
+
 double LoadFunction::operator()(double t) const {
+  const double pi = std::numbers::pi, T = duration_;
   switch (kind_) {
     case Kind::linear: return value_ * t;
     case Kind::constant: return value_;
+    case Kind::smooth_ramp:
+      if (t <= 0) return 0.0;
+      if (t < T) return 0.5 * value_ * (t - T / pi * std::sin(pi * t / T));
+      return value_ * (t - 0.5 * T);
     case Kind::table: break;
   }
   if (t <= points_.front().first) return points_.front().second;
@@ -45,12 +61,18 @@ double LoadFunction::operator()(double t) const {
   return (1.0 - s) * lo->second + s * hi->second;
 }
 
-double LoadFunction::derivative(double t) const {
+double LoadFunction::derivative(double t, int order) const {
+  const double pi = std::numbers::pi, T = duration_;
   switch (kind_) {
-    case Kind::linear: return value_;
+    case Kind::linear: return order == 1 ? value_ : 0.0;
     case Kind::constant: return 0.0;
+    case Kind::smooth_ramp:
+      if (t <= 0) return 0.0;
+      if (t >= T) return order == 1 ? value_ : 0.0;
+      return order == 1 ? 0.5 * value_ * (1 - std::cos(pi * t / T)) : 0.5 * value_ * pi / T * std::sin(pi * t / T);
     case Kind::table: break;
   }
+  if (order != 1) return 0.0;
   if (t < points_.front().first || t >= points_.back().first) return 0.0;
   const auto hi = std::upper_bound(points_.begin(), points_.end(), t,
                                    [](double v, const auto& p) { return v < p.first; });

@@ -45,9 +45,15 @@ double NodalLoads::squared_norm(const State& s) const {
   return sum;
 }
 
-PointMoment::PointMoment(const BeamBody& beam, double xi, Eigen::Vector3d moment, int function)
+PointMoment::PointMoment(const BeamBody& beam, double xi, Eigen::Vector3d moment, int function, bool follower)
     : beam_(beam), xi_(xi), moment_(std::move(moment)), function_(function), element_(beam.element_of(xi)),
-      state_(beam.state_at(xi)) {}
+      follower_(follower), state_(beam.state_at(xi)) {}
+
+void PointMoment::add(const Eigen::Vector3d& m, const beam::BasisDerivs& basis, const beam::BeamDofs& q,
+                      Eigen::VectorXd* r, Eigen::MatrixXd* k) const {
+  if (follower_) beam::add_follower_point_moment(m, basis, q, state_, r, k);
+  else beam::add_point_moment(m, basis, q, state_, r, k);
+}
 
 std::vector<std::vector<int>> PointMoment::element_dofs(const solve::DofMap& dofs) const {
   return {beam_.element_dofs(dofs)[static_cast<std::size_t>(element_)]};
@@ -60,12 +66,11 @@ double PointMoment::evaluate(const State& s, ElementSink& sink, Status& /*status
   const beam::BasisDerivs basis = beam_.curve.basis(xi_, 2).R.topRows(3);
   Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
-  beam::add_point_moment(s.functions(function_, s.t) * moment_, basis, qe, state_, &r,
-                         sink.with_tangent() ? &k : nullptr);
+  add(s.functions(function_, s.t) * moment_, basis, qe, &r, sink.with_tangent() ? &k : nullptr);
   sink.add(0, r, sink.with_tangent() ? &k : nullptr);
   if (sink.with_rate()) {  // the residual is linear in the moment
     Eigen::VectorXd r_t = Eigen::VectorXd::Zero(n);
-    beam::add_point_moment(s.functions.derivative(function_, s.t) * moment_, basis, qe, state_, &r_t, nullptr);
+    add(s.functions.derivative(function_, s.t) * moment_, basis, qe, &r_t, nullptr);
     sink.add_rate(element_dofs(s.dofs).front(), r_t);
   }
   return 0.0;  // a follower moment has no potential

@@ -38,11 +38,12 @@ class NodalLoads final : public Contribution {
   double squared_norm(const State& s) const;
 };
 
-// A point moment on a beam (Eq. 54), a follower of the section frame; its load stiffness (B8-B9) is
-// unsymmetric in general.
+// A point moment on a beam (Eq. 54): a fixed spatial vector, or, with `follower`, components along the
+// current section triad (t, a2, a3) that turn with the section. Its load stiffness (B8-B9) is unsymmetric
+// in general.
 class PointMoment final : public Contribution {
  public:
-  PointMoment(const BeamBody& beam, double xi, Eigen::Vector3d moment, int function);
+  PointMoment(const BeamBody& beam, double xi, Eigen::Vector3d moment, int function, bool follower = false);
   std::string name() const override { return "point moment"; }
   EnergyKind energy_kind() const override { return EnergyKind::external; }
   std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
@@ -55,7 +56,11 @@ class PointMoment final : public Contribution {
   double xi_;
   Eigen::Vector3d moment_;
   int function_, element_;
+  bool follower_;
   beam::BeamPointState state_;
+  // The kernel of the moment's kind: adds the residual (and tangent) of the moment vector `m`.
+  void add(const Eigen::Vector3d& m, const beam::BasisDerivs& basis, const beam::BeamDofs& q, Eigen::VectorXd* r,
+           Eigen::MatrixXd* k) const;
 };
 
 // A moment per unit reference length along a shell edge (shell/edge_moment.hpp).

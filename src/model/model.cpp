@@ -9,13 +9,25 @@ namespace fibrane::model {
 
 void ElementSink::add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
   assembler_.add(first_ + element, r, k);
+  if (external_) {
+    const auto& dofs = (*element_dofs_)[static_cast<std::size_t>(element)];
+    for (std::size_t a = 0; a < dofs.size(); ++a) (*external_)[dofs[a]] -= r[static_cast<Eigen::Index>(a)];
+  }
 }
 
 void ElementSink::add(int element, std::span<const int> local, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {
   assembler_.add(first_ + element, local, r, k);
+  if (external_) {
+    const auto& dofs = (*element_dofs_)[static_cast<std::size_t>(element)];
+    for (std::size_t a = 0; a < local.size(); ++a) (*external_)[dofs[local[a]]] -= r[static_cast<Eigen::Index>(a)];
+  }
 }
 
-void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) { assembler_.add_vector(dofs, r); }
+void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) {
+  assembler_.add_vector(dofs, r);
+  if (external_)
+    for (std::size_t a = 0; a < dofs.size(); ++a) (*external_)[dofs[a]] -= r[static_cast<Eigen::Index>(a)];
+}
 
 void ElementSink::add_rate(std::span<const int> dofs, const Eigen::VectorXd& r_t) { assembler_.add_rate(dofs, r_t); }
 
@@ -50,7 +62,17 @@ void Model::finalize() {
   for (auto& m : moments) entries_.push_back({&m, 0, &PhaseTimes::other});
   for (auto& e : edge_moments) entries_.push_back({&e, 0, &PhaseTimes::other});
   entries_.push_back({&nodal_loads, 0, &PhaseTimes::other});
+  if (inertia) {
+    std::vector<const ShellBody*> s;
+    std::vector<const BeamBody*> b;
+    for (const auto& x : shells) s.push_back(&x);
+    for (const auto& x : beams) b.push_back(&x);
+    inertia_ = std::make_unique<Inertia>(s, b, dofs);
+    entries_.push_back({inertia_.get(), 0, &PhaseTimes::other});
+  }
   for (auto& c : extra_) entries_.push_back({c.get(), 0, &PhaseTimes::other});
+  for (auto& e : entries_)
+    if (e.contribution->energy_kind() == EnergyKind::external) e.dofs = e.contribution->element_dofs(dofs);
   std::vector<std::vector<int>> element_dofs;
   for (auto& e : entries_) {
     if (e.contribution->variable()) continue;
@@ -121,9 +143,11 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   lap(times_.pattern);
   for (double& e : energies_) e = 0.0;
   status_ = Status{};
+  external_.setZero(dofs.size());
   const State s = state();
   for (auto& e : entries_) {
     ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent);
+    if (e.contribution->energy_kind() == EnergyKind::external) sink.record_external(&external_, &e.dofs);
     energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
     lap(times_.*e.time);
   }
@@ -165,6 +189,38 @@ void Model::accept(const Eigen::VectorXd& q, double t) {
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
   for (auto& e : entries_) e.contribution->accept(state());
+}
+
+void Model::begin_step(const solve::StepKinematics* step) {
+  if (!inertia_) throw std::logic_error("Model::begin_step: the model has no inertia (enable it before finalize)");
+  inertia_->set_step(step);
+}
+
+Eigen::VectorXd Model::prescribed_motion(double t, int order) const {
+  if (order == 0) return constraints.expand(Eigen::VectorXd::Zero(constraints.num_free()), t, curve_eval());
+  return constraints.prescribed_rate(t, [this, order](int curve, double s) { return functions.derivative(curve, s, order); });
+}
+
+Eigen::VectorXd Model::mass_times(const Eigen::VectorXd& x) const {
+  if (!inertia_) throw std::logic_error("Model::mass_times: the model has no inertia");
+  return inertia_->times(x);
+}
+
+const Eigen::SparseMatrix<double>& Model::reduced_mass() {
+  if (!inertia_) throw std::logic_error("Model::reduced_mass: the model has no inertia");
+  if (mass_.rows() == 0) {
+    std::vector<std::vector<int>> element_dofs = inertia_->element_dofs(dofs);
+    solve::SparseAssembler a;
+    a.set_pattern(constraints, element_dofs);
+    a.begin(true);
+    for (int e = 0; e < inertia_->num_elements(); ++e) {
+      const Eigen::MatrixXd m = inertia_->element_matrix(e);
+      a.add(e, Eigen::VectorXd::Zero(m.rows()), &m);
+    }
+    a.end();
+    mass_ = a.matrix();
+  }
+  return mass_;
 }
 
 }  // namespace fibrane::model

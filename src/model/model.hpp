@@ -4,6 +4,7 @@
 // methods of src/solve drive: given the free unknowns q and the load parameter t it assembles the reduced
 // residual, tangent and load derivative in one loop over its contributions.
 #include <deque>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "model/beam_body.hpp"
 #include "model/contribution.hpp"
 #include "model/coupling.hpp"
+#include "model/inertia.hpp"
 #include "model/load_function.hpp"
 #include "model/loads.hpp"
 #include "model/monitor.hpp"
@@ -21,6 +23,7 @@
 #include "solve/assembler.hpp"
 #include "solve/constraints.hpp"
 #include "solve/dof_map.hpp"
+#include "solve/generalized_alpha.hpp"
 #include "solve/nonlinear.hpp"
 
 namespace fibrane::model {
@@ -31,7 +34,7 @@ struct PhaseTimes {
   int evaluations = 0, tangents = 0, pattern_rebuilds = 0;
 };
 
-class Model : public solve::NonlinearSystem {
+class Model : public solve::TransientSystem {
  public:
   std::string title;
   LoadFunctions functions;
@@ -44,7 +47,12 @@ class Model : public solve::NonlinearSystem {
   std::deque<PointMoment> moments;
   std::deque<EdgeMoment> edge_moments;
   NodalLoads nodal_loads;
-  std::vector<Monitor> monitors;
+  std::vector<std::unique_ptr<Monitor>> monitors;
+  // The DOFs each named constraint of the case fixes, prescribes or ties (slaves and masters), sorted.
+  std::map<std::string, std::vector<int>> named_constraints;
+
+  // With inertia (set before finalize()): the bodies' mass matrices take part, for dynamics.
+  bool inertia = false;
 
   // Bodies get their DOF block here: 3 per shell control point, 4 (x, y, z, twist) per beam control point.
   ShellBody& add_shell(ShellBody body);
@@ -72,13 +80,25 @@ class Model : public solve::NonlinearSystem {
   double roundoff_floor() const override { return roundoff_floor_; }
   bool symmetric() const override;
 
+  // TransientSystem (needs `inertia`): the time step the next evaluations belong to, the prescribed
+  // motion g(t) and its derivatives, the mass matrix.
+  void begin_step(const solve::StepKinematics* step) override;
+  const solve::ConstraintSet& constraint_set() const override { return constraints; }
+  Eigen::VectorXd prescribed_motion(double t, int order) const override;
+  const Eigen::VectorXd& external_force() const override { return external_; }
+  Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const override;
+  const Eigen::SparseMatrix<double>& reduced_mass() override;
+
   // State of the last evaluate().
-  const Eigen::VectorXd& displacement() const { return u_; }
-  const Eigen::VectorXd& full_residual() const { return assembler_.full_residual(); }
+  const Eigen::VectorXd& displacement() const override { return u_; }
+  const Eigen::VectorXd& full_residual() const override { return assembler_.full_residual(); }
+  // The forces the supports exert at the constrained DOFs: the full residual, or, in a dynamic run, the
+  // reactions the time integrator computed (inertia included), once set with set_reactions().
+  const Eigen::VectorXd& reactions() const { return reactions_ ? *reactions_ : full_residual(); }
+  void set_reactions(const Eigen::VectorXd* reactions) { reactions_ = reactions; }
   double strain_energy() const { return energy(EnergyKind::strain); }
   double energy(EnergyKind kind) const { return energies_[static_cast<int>(kind)]; }
   double time() const { return t_; }
-  double monitor_value(const Monitor& m) const { return m.value(u_, full_residual()); }
   int num_elements() const { return assembler_.num_elements(); }
   const PhaseTimes& times() const { return times_; }
   void reset_times() { times_ = PhaseTimes{}; }
@@ -88,6 +108,7 @@ class Model : public solve::NonlinearSystem {
     Contribution* contribution;
     int first_element;
     double PhaseTimes::*time;  // the phase its evaluation counts towards
+    std::vector<std::vector<int>> dofs = {};  // element DOF lists of external contributions (f_ext)
   };
   void rebuild_variable_elements();
   // eps * sqrt(sum_ij (K_ij x_j)^2) of the current tangent, x_j = |reference coordinate| + |u_j| (twists:
@@ -98,7 +119,10 @@ class Model : public solve::NonlinearSystem {
   std::vector<std::unique_ptr<Contribution>> extra_;
   solve::SparseAssembler assembler_;
   std::vector<int> constrained_dofs_;
-  Eigen::VectorXd u_, prescribed_rate_;
+  Eigen::VectorXd u_, prescribed_rate_, external_;
+  std::unique_ptr<Inertia> inertia_;
+  Eigen::SparseMatrix<double> mass_;
+  const Eigen::VectorXd* reactions_ = nullptr;
   std::vector<double> reference_magnitude_;  // per DOF: |reference coordinate|, 1 for a twist
   double t_ = 0.0, load_scale_ = 0.0, roundoff_floor_ = 0.0;
   double energies_[4] = {0, 0, 0, 0};

@@ -15,7 +15,7 @@ std::vector<Observable> observables(const Model& m) {
                      [i, c](const Model& x) { return x.couplings[i].total_force()[c]; }});
   }
   for (std::size_t i = 0; i < m.monitors.size(); ++i)
-    out.push_back({m.monitors[i].name, [i](const Model& x) { return x.monitor_value(x.monitors[i]); }});
+    out.push_back({m.monitors[i]->name(), [i](const Model& x) { return x.monitors[i]->value(x); }});
   return out;
 }
 

@@ -19,6 +19,7 @@ class ShellBody final : public Contribution {
   spline::NurbsSurface surface;  // reference geometry after refinement
   shell::ShellSection section;
   int block = -1;                // DOF block: 3 displacement components per control point
+  double density = 0;            // mass per unit volume (dynamics only)
   int gauss_points[2] = {0, 0};  // per direction; 0 means degree + 1 (the paper's choice)
   std::vector<spline::SurfaceElement> elements;
   std::vector<std::vector<int>> element_control_points;

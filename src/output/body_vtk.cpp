@@ -1,5 +1,7 @@
 #include "output/body_vtk.hpp"
 
+#include <stdexcept>
+
 #include "io/bezier_vtu.hpp"
 
 #include <algorithm>
@@ -61,31 +63,21 @@ io::VtuMesh beam_vtu(const Model& m, const BeamBody& b, int samples) {
   io::VtuMesh::Field disp{"displacement", 3, {}}, twist{"twist", 1, {}}, t{"tangent", 3, {}},
       a2{"director2", 3, {}}, a3{"director3", 3, {}}, nf{"N", 1, {}}, mf{"M", 3, {}};
   const auto& u = m.displacement();
-  const auto gauss = spline::gauss_legendre(b.gauss());
+  const int probes = b.output_probes(samples);
+  if (probes < 0) throw std::logic_error("beam_vtu: the beam has no output probes for " + std::to_string(samples) + " samples");
   for (std::size_t e = 0; e < b.elements.size(); ++e) {
     const auto& el = b.elements[e];
     const beam::BeamDofs q = b.current(el.control_points, u, m.dofs);
-    // Section quantities are exact at the quadrature points, where the frame states live; each sample
-    // shows the value of the nearest quadrature point. Positions, displacement and twist are exact.
-    std::vector<beam::BeamPointOutput> at_gauss;
-    std::vector<double> gauss_xi;
-    for (std::size_t g = 0; g < gauss.points.size(); ++g) {
-      const double xi = el.xi0 + 0.5 * (gauss.points[g] + 1.0) * (el.xi1 - el.xi0);
-      gauss_xi.push_back(xi);
-      at_gauss.push_back(beam::evaluate_point(b.section, b.curve.basis(xi, 2).R.topRows(3), q, b.states[e][g]));
-    }
     const int base = static_cast<int>(mesh.points.size());
     for (int i = 0; i <= samples; ++i) {
-      // Sample slightly inside the element so the basis belongs to this element's span.
+      // Sample slightly inside the element so the basis belongs to this element's span (the probes
+      // sit at the same points, with their own frames: section quantities are exact there).
       const double s = std::clamp(static_cast<double>(i) / samples, 1e-12, 1.0 - 1e-12);
       const double xi = el.xi0 + (el.xi1 - el.xi0) * s;
       const auto basis = b.curve.basis(xi, 0);
       Eigen::Vector3d r = Eigen::Vector3d::Zero();
       for (int a = 0; a < basis.R.cols(); ++a) r += basis.R(0, a) * q.col(a).head<3>();
-      std::size_t near = 0;
-      for (std::size_t g = 1; g < gauss_xi.size(); ++g)
-        if (std::abs(gauss_xi[g] - xi) < std::abs(gauss_xi[near] - xi)) near = g;
-      const auto& out = at_gauss[near];
+      const auto out = b.probe_output(probes + static_cast<int>(e) * (samples + 1) + i, u, m.dofs);
       mesh.points.push_back(r);
       push3(disp.values, r - b.curve.point(xi));
       twist.values.push_back(q.row(3).dot(basis.R.row(0)));

@@ -10,9 +10,14 @@
 
 namespace fibrane::output {
 
-std::vector<std::string> history_columns(const model::Model& m) {
-  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual"};
+std::vector<std::string> history_columns(const model::Model& m, bool energy) {
+  std::vector<std::string> columns{"step", "t", "load_factor", "iterations", "residual", "negative_eigenvalues",
+                                   "limit_point"};
   for (const auto& o : model::observables(m)) columns.push_back(o.name);
+  if (energy)
+    for (const char* c : {"kinetic_energy", "interaction_energy", "external_work", "prescribed_work", "damping_work",
+                          "energy_balance"})
+      columns.push_back(c);
   return columns;
 }
 
@@ -77,15 +82,25 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory)
   remove_earlier_run(dir_, *c.model);
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
-  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(), history_columns(*c.model));
+  energy_ = c.run.method == casefile::Method::dynamics;
+  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(),
+                                             history_columns(*c.model, energy_));
   if (c.output.vtk)
     for (const auto& name : vtk_series_names(c)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
 }
 
 void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {
   std::vector<double> row{static_cast<double>(r.step), r.t, m.functions(0, r.t), static_cast<double>(r.iterations),
-                          r.residual_norm};
+                          r.residual_norm, static_cast<double>(r.negative_eigenvalues), r.limit_point ? 1.0 : 0.0};
   for (const auto& o : observables_) row.push_back(o.value(m));
+  if (energy_) {
+    // The energy balance E_kin + E_strain + E_interaction - W_ext - W_prescribed + D_damping: constant up to
+    // the scheme's algorithmic dissipation (solve/generalized_alpha.hpp); the initial state has no account.
+    const solve::EnergyReport e = r.energy.value_or(solve::EnergyReport{});
+    const double interaction = m.energy(model::EnergyKind::interaction);
+    const double balance = e.kinetic + m.strain_energy() + interaction - e.external_work - e.prescribed_work + e.damping;
+    row.insert(row.end(), {e.kinetic, interaction, e.external_work, e.prescribed_work, e.damping, balance});
+  }
   history_->row(row);
   for (const auto& c : m.couplings) write_coupling_csv(c, r.step);
 }
@@ -133,7 +148,7 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   j.set("t_reached", result.t_reached).set("steps", result.steps).set("newton_iterations", result.total_iterations);
   j.set("wall_seconds", wall_seconds).set("linear_solver", solver_name);
   io::JsonValue monitors = io::JsonValue::object();
-  for (const auto& mon : m.monitors) monitors.set(mon.name, m.monitor_value(mon));
+  for (const auto& mon : m.monitors) monitors.set(mon->name(), mon->value(m));
   j.set("final_monitors", std::move(monitors));
   io::JsonValue soft = io::JsonValue::object();
   for (const auto& c : m.couplings)

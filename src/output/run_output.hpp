@@ -15,9 +15,12 @@
 
 namespace fibrane::output {
 
-// Column names of history.csv: step, t, load factor, iterations, residual, then the model's observables
-// (model/observables.hpp).
-std::vector<std::string> history_columns(const model::Model& m);
+// Column names of history.csv: step, t, load factor, iterations, residual, the number of negative
+// eigenvalues of the tangent at the step's end (-1: the solver does not tell), whether t passed an
+// extremum within the step (1) or not (0), then the model's observables (model/observables.hpp).
+// With `energy` (dynamic runs) the energy account follows: kinetic energy, interaction energy, work of the
+// external loads and of the prescribed motion, damping work, and their balance.
+std::vector<std::string> history_columns(const model::Model& m, bool energy = false);
 
 class RunOutput {
  public:
@@ -37,6 +40,7 @@ class RunOutput {
   const casefile::Case& case_;
   std::string dir_;
   std::vector<model::Observable> observables_;
+  bool energy_ = false;
   std::unique_ptr<io::CsvWriter> history_;
   std::vector<io::PvdCollection> series_;
 };

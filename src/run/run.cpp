@@ -13,6 +13,7 @@
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
 #include "run/run_checks.hpp"
+#include "solve/arc_length.hpp"
 #include "solve/linear_solver.hpp"
 #include "solve/linear_step.hpp"
 #include "solve/load_stepping.hpp"
@@ -25,6 +26,8 @@ std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettin
   newton.verbose = verbose;
   switch (s.method) {
     case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
+    case casefile::Method::arc_length: return std::make_unique<solve::ArcLength>(s.arc_length, newton);
+    case casefile::Method::dynamics: return std::make_unique<solve::GeneralizedAlpha>(s.steps, newton, s.dynamics);
     case casefile::Method::load_stepping: break;
   }
   return std::make_unique<solve::LoadStepping>(s.steps, newton);
@@ -82,13 +85,17 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
                                             : io::ProgressLine(c.run.steps.t_end);
   bool stopped = false;
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
+  // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
+  const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method.get());
   summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+    if (dynamics) m.set_reactions(&dynamics->state().reaction);
     out.write_history(m, r);
     stopped = stop_rule.reached(m);
     if (r.t >= t_last || stopped || out.vtk_due(r.step)) out.write_vtk(m, r);
     progress.update(r.step, r.t, r.iterations, r.residual_norm);
     return !stopped;
   });
+  m.set_reactions(nullptr);
   if (stopped) summary.result.message = stop_rule.message();
   progress.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

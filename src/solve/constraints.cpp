@@ -54,6 +54,30 @@ void ConstraintSet::add(LinearConstraint c) {
   finalized_ = false;
 }
 
+std::vector<int> ConstraintSet::linked_dofs(const std::vector<int>& dofs) const {
+  // Union-find over the relation "appear in one constraint" (usable before finalize()).
+  int n = n_dofs_;
+  for (const auto& c : raw_) {
+    n = std::max(n, c.slave + 1);
+    for (const auto& [m, coef] : c.masters) n = std::max(n, m + 1);
+  }
+  for (int d : dofs) n = std::max(n, d + 1);
+  std::vector<int> parent(static_cast<size_t>(n));
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  auto find = [&](int d) {
+    while (parent[static_cast<size_t>(d)] != d) d = parent[static_cast<size_t>(d)] = parent[static_cast<size_t>(parent[static_cast<size_t>(d)])];
+    return d;
+  };
+  for (const auto& c : raw_)
+    for (const auto& [m, coef] : c.masters) parent[static_cast<size_t>(find(m))] = find(c.slave);
+  std::vector<char> wanted(parent.size(), 0);
+  for (int d : dofs) wanted[static_cast<size_t>(find(d))] = 1;
+  std::vector<int> out;
+  for (int d = 0; d < n; ++d)
+    if (wanted[static_cast<size_t>(find(d))]) out.push_back(d);
+  return out;
+}
+
 void ConstraintSet::fix(int dof, double value, int curve) {
   add(LinearConstraint{dof, {}, value, curve});
 }

@@ -42,8 +42,6 @@ class ConstraintSet {
  public:
   void add(LinearConstraint c);
   void fix(int dof, double value = 0.0, int curve = -1);
-  // Number of constraints added so far (the index the next add() gets).
-  std::size_t num_added() const { return raw_.size(); }
 
   // Resolves chains (a master that is itself a slave is substituted), rejects conflicting duplicate
   // constraints on one slave and cycles (throws ConstraintError naming the DOFs) and numbers the
@@ -69,6 +67,14 @@ class ConstraintSet {
   Eigen::VectorXd restrict_vector(const Eigen::VectorXd& full) const;                            // T^T r
   Eigen::VectorXd free_values(const Eigen::VectorXd& u) const;  // q from a consistent full u
   std::vector<int> constrained_dofs() const;                   // increasing order
+
+  // The constraints added so far, in order (slaves and masters as given, before resolution).
+  int num_added() const { return static_cast<int>(raw_.size()); }
+  const LinearConstraint& added(int i) const { return raw_[static_cast<size_t>(i)]; }
+  // `dofs` and every DOF linked to them through constraints (a slave and its masters are linked; the
+  // closure is transitive), sorted. The full residual summed over such a set is the force its supports
+  // exert: at equilibrium the free DOFs of the set balance among themselves.
+  std::vector<int> linked_dofs(const std::vector<int>& dofs) const;
 
  private:
   struct Resolved {

@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,17 @@
 #include "solve/nonlinear.hpp"
 
 namespace fibrane::solve {
+
+// Energy bookkeeping of a time-integration method at a converged step. The work and dissipation are
+// cumulative from the start of the run; with the model's stored energies (strain, interaction) the balance
+//   E_kin + E_strain + E_interaction - external_work - prescribed_work + damping = const
+// holds up to the scheme's algorithmic dissipation (solve/generalized_alpha.hpp says how each is summed).
+struct EnergyReport {
+  double kinetic = 0;          // 1/2 v^T M v at the step's time
+  double external_work = 0;    // work of the external loads f_ext
+  double prescribed_work = 0;  // work of the support reactions on the prescribed motion
+  double damping = 0;          // energy dissipated by the damping forces C v
+};
 
 // One converged point of the path.
 struct StepReport {
@@ -25,6 +37,7 @@ struct StepReport {
   std::vector<double> history;   // residual norms of the converged attempt
   int negative_eigenvalues = -1;  // of the reduced tangent at the converged state; -1: not known
   bool limit_point = false;       // the load parameter passed an extremum within this step
+  std::optional<EnergyReport> energy{};  // time-integration methods only
 };
 
 // How a run ended.

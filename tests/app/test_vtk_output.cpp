@@ -26,7 +26,7 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   const auto run = run_cli("run '" + example + "' -q -o '" + out.string() + "'");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string history = slurp(out / "history.csv");
-  EXPECT_EQ(history.rfind("step,t,load_factor,iterations,residual,strain_energy,tip_x,tip_z", 0), 0u) << history;
+  EXPECT_EQ(history.rfind("step,t,load_factor,iterations,residual,negative_eigenvalues,limit_point,strain_energy,tip_x,tip_z", 0), 0u) << history;
   EXPECT_NE(slurp(out / "summary.json").find("\"completed\": true"), std::string::npos);
   const std::string script = std::string(FIBRANE_SOURCE_DIR) + "/tests/app/read_vtk.py";
   const auto read = run_cli_command("/usr/bin/python3 '" + script + "' '" + out.string() + "'");

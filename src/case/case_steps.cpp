@@ -1,0 +1,140 @@
+#include "case/case_steps.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace fibrane::casefile {
+namespace {
+
+// An optional integer key in [lo, hi]; `fallback` when absent.
+int int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {
+  const auto v = map.optional(key);
+  if (!v) return fallback;
+  const int x = v->as_int();
+  if (x < lo || x > hi) v->fail(fmt::format("{}, an integer in [{}, {}]", what, lo, hi));
+  return x;
+}
+
+// An optional number key in the range given by lo, hi and whether each end is open; `fallback` when absent.
+double number_in(const io::YamlNode& map, const std::string& key, double lo, double hi, bool lo_open, bool hi_open,
+                 double fallback) {
+  const auto v = map.optional(key);
+  return v ? v->in_range(lo, hi, lo_open, hi_open) : fallback;
+}
+
+// steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
+// max_path_length, direction}.
+void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  if (auto v = node->optional("ds")) a.ds_initial = v->positive();
+  if (auto v = node->optional("ds_min")) a.ds_min = v->positive();
+  a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
+  if (a.ds_min > a.ds_initial) (*node)["ds_min"].fail("ds_min <= ds");
+  if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
+  a.desired_iterations = int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
+                                "the Newton iterations a step aims at");
+  if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
+  if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
+  if (auto v = node->optional("scale")) {  // auto, cylindrical, or a positive number
+    const std::string text = v->is_scalar() ? v->as_string() : "";
+    if (text == "auto") a.load_scale = -1.0;
+    else if (text == "cylindrical") a.load_scale = 0.0;
+    else a.load_scale = v->positive();
+  }
+  if (auto v = node->optional("corrector"))
+    a.corrector = v->as_choice({"quadratic", "linearized"}) == "quadratic" ? solve::ArcLengthCorrector::quadratic
+                                                                           : solve::ArcLengthCorrector::linearized;
+  a.t_min = node->get("t_min", a.t_min);
+  a.t_max = node->get("t_max", a.t_max);
+  if (auto v = node->optional("max_path_length")) a.max_path_length = v->positive();
+  if (auto v = node->optional("direction"))
+    a.initial_direction = v->as_choice({"increasing", "decreasing"}) == "increasing" ? 1 : -1;
+  node->reject_unknown_keys();
+}
+
+// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, start: rest | equilibrium}.
+void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  if (node->has("rho_inf") && node->has("scheme"))
+    (*node)["scheme"].fail_message("give either 'rho_inf' or 'scheme: trapezoidal'");
+  if (auto r = node->optional("rho_inf"))
+    d.parameters = solve::GeneralizedAlphaParameters::chung_hulbert(r->in_range(0.0, 1.0, false, false));
+  if (auto sc = node->optional("scheme")) {
+    sc->as_choice({"trapezoidal"});
+    d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
+  }
+  if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
+  if (auto v = node->optional("start"))
+    d.start = v->as_choice({"rest", "equilibrium"}) == "rest" ? solve::TransientOptions::Start::rest
+                                                               : solve::TransientOptions::Start::solve;
+  node->reject_unknown_keys();
+}
+
+void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
+  newton.max_iterations = int_in(node, "max_iterations", 1, 1000, newton.max_iterations,
+                                 "the most Newton iterations per step");
+  newton.tol_relative = number_in(node, "tolerance", 0.0, 1.0, true, true, newton.tol_relative);
+  newton.tol_absolute = number_in(node, "tolerance_absolute", 0.0, INFINITY, false, true, newton.tol_absolute);
+  newton.tol_increment = number_in(node, "tolerance_increment", 0.0, 1.0, false, true, newton.tol_increment);
+  newton.line_search = int_in(node, "line_search", 0, 30, newton.line_search,
+                              "the most halvings of a Newton update (0: none)");
+  newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
+}
+
+}  // namespace
+
+void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
+  if (!node) return;
+  if (!node->is_map()) node->fail("a map of step settings (t_end, dt, ...)");
+  auto& s = run.steps;
+  s.t_end = number_in(*node, "t_end", s.t_start, INFINITY, true, true, s.t_end);
+  s.dt_initial = number_in(*node, "dt", 0.0, INFINITY, true, true, s.dt_initial);
+  s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
+  s.dt_min = number_in(*node, "dt_min", 0.0, INFINITY, true, true, s.dt_min);
+  if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
+  if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
+  s.easy_iterations = int_in(*node, "easy_iterations", 1, 1000, s.easy_iterations,
+                             "the most Newton iterations of a step that lets dt grow");
+  s.growth = number_in(*node, "growth", 1.0, 100.0, false, false, s.growth);
+  s.cutback = number_in(*node, "cutback", 0.0, 1.0, true, true, s.cutback);
+  s.max_steps = int_in(*node, "max_steps", 1, 100'000'000, s.max_steps, "the most steps of the run");
+  if (auto method = node->optional("method")) {
+    const std::string m = method->as_choice({"load_stepping", "linear", "arc_length", "dynamics"});
+    run.method = m == "linear"       ? Method::linear
+                 : m == "arc_length" ? Method::arc_length
+                 : m == "dynamics"   ? Method::dynamics
+                                     : Method::load_stepping;
+  }
+  if (auto linear = node->optional("linear")) {  // the short form of method: linear
+    if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
+    if (linear->as_bool()) run.method = Method::linear;
+  }
+  if (auto a = node->optional("arc_length")) {
+    if (run.method != Method::arc_length) a->fail_message("arc-length controls need 'method: arc_length'");
+    read_arc_length(run.arc_length, a);
+  }
+  if (auto d = node->optional("dynamics")) {
+    if (run.method != Method::dynamics) d->fail_message("time-integration controls need 'method: dynamics'");
+    read_dynamics(run.dynamics, d);
+  }
+  if (auto stop = node->optional("stop")) {
+    if (stop->has("column") || stop->has("below_fraction_of_peak")) {
+      run.stop_column = (*stop)["column"].as_string();
+      run.stop_fraction = (*stop)["below_fraction_of_peak"].in_range(0.0, 1.0, true, true);
+    }
+    s.stop_at_limit_point = stop->get("at_limit_point", false);
+    stop->reject_unknown_keys();
+  }
+  s.extrapolate = node->get("extrapolate", s.extrapolate);
+  read_newton(run.newton, *node);
+  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "umfpack"})
+                                          : run.linear_solver;
+  node->reject_unknown_keys();
+  run.arc_length.t_start = s.t_start;
+  run.arc_length.t_end = s.t_end;
+  run.arc_length.max_steps = s.max_steps;
+}
+
+}  // namespace fibrane::casefile
