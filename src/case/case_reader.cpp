@@ -9,6 +9,8 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "io/yaml_parameters.hpp"
+#include "shell/material.hpp"
 
 #include "case/case_checks.hpp"
 #include "case/case_conditions.hpp"
@@ -78,10 +80,12 @@ void read_shell(Model& m, const io::YamlNode& node) {
   shell::ShellSection section;
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
-  section.young = mat["young"].positive();
-  section.poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
+  const std::string model = mat.get("model", "svk");
+  const auto& materials = shell::material_registry();
+  if (!materials.find(model)) mat["model"].fail("one of " + materials.names_text());
+  // The density belongs to the body (its inertia), not to the constitutive model.
   const double density = mat.has("density") ? mat["density"].positive() : 0.0;
-  mat.reject_unknown_keys();
+  section.material = materials.make(model, io::YamlParameters(mat, {"model", "density"}));
   const int degree = std::max(surface.degree(0), surface.degree(1));
   ShellBody body(name, std::move(surface), section);
   body.density = density;

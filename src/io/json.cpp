@@ -59,6 +59,13 @@ std::size_t JsonValue::size() const {
   return kind_ == Kind::array || kind_ == Kind::object ? values_.size() : 0;
 }
 
+std::vector<std::pair<std::string, JsonValue>> JsonValue::members() const {
+  std::vector<std::pair<std::string, JsonValue>> out;
+  if (kind_ != Kind::object) return out;
+  for (std::size_t i = 0; i < keys_.size(); ++i) out.emplace_back(keys_[i], values_[i]);
+  return out;
+}
+
 std::string json_quote(const std::string& text) {
   std::string out = "\"";
   for (std::size_t i = 0; i < text.size(); ++i) {

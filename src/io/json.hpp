@@ -38,6 +38,8 @@ class JsonValue {
   // Arrays: appends. A null value becomes an array.
   JsonValue& push_back(JsonValue value);
   std::size_t size() const;  // members or items; 0 for scalars
+  // Objects: the members in order (name, value).
+  std::vector<std::pair<std::string, JsonValue>> members() const;
 
   // indent < 0: compact single line. Otherwise pretty-printed; arrays of scalars stay on one line.
   std::string dump(int indent = 2) const;

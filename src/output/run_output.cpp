@@ -139,7 +139,7 @@ void RunOutput::write_coupling_csv(const model::Coupling& c, int step) const {
 }
 
 void RunOutput::write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
-                              const std::string& solver_name) {
+                              const std::string& solver_name, const io::JsonValue* extra) {
   io::JsonValue j = io::JsonValue::object();
   j.set("case", case_.path).set("title", m.title).set("fibrane_version", FIBRANE_VERSION);
   j.set("dofs", m.dofs.size()).set("free_dofs", m.constraints.num_free()).set("elements", m.num_elements());
@@ -154,6 +154,8 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   for (const auto& c : m.couplings)
     if (c.soft_points() > 0) soft.set(c.name(), c.soft_points());
   j.set("soft_minimum_points", std::move(soft));
+  if (extra)
+    for (const auto& [key, value] : extra->members()) j.set(key, value);
   io::write_file_atomic((std::filesystem::path(dir_) / "summary.json").string(), j.dump(2) + "\n");
 }
 

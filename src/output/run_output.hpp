@@ -9,6 +9,7 @@
 
 #include "case/case.hpp"
 #include "io/csv.hpp"
+#include "io/json.hpp"
 #include "io/vtk.hpp"
 #include "model/observables.hpp"
 #include "solve/continuation.hpp"
@@ -31,8 +32,9 @@ class RunOutput {
   void write_history(const model::Model& m, const solve::StepReport& report);
   void write_vtk(const model::Model& m, const solve::StepReport& report);
   bool vtk_due(int step) const { return case_.output.vtk && step % case_.output.vtk_every == 0; }
+  // `extra`: further members of the summary object (e.g. the limit points the run driver found).
   void write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
-                     const std::string& solver_name);
+                     const std::string& solver_name, const io::JsonValue* extra = nullptr);
   const std::string& directory() const { return dir_; }
 
  private:

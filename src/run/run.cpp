@@ -12,6 +12,7 @@
 #include "io/progress.hpp"
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
+#include "run/limit_points.hpp"
 #include "run/run_checks.hpp"
 #include "solve/arc_length.hpp"
 #include "solve/linear_solver.hpp"
@@ -84,12 +85,16 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   io::ProgressLine progress = options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
                                             : io::ProgressLine(c.run.steps.t_end);
   bool stopped = false;
+  LimitPointFinder limits(model::observables(m));
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
   const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method.get());
   summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
     if (dynamics) m.set_reactions(&dynamics->state().reaction);
     out.write_history(m, r);
+    if (limits.add(r, m) && !options.quiet)
+      std::cerr << "\nfibrane: limit point (" << (limits.last().maximum ? "maximum" : "minimum") << " of t) at t = "
+                << format_number(limits.last().t) << " in step " << r.step << "\n";
     stopped = stop_rule.reached(m);
     if (r.t >= t_last || stopped || out.vtk_due(r.step)) out.write_vtk(m, r);
     progress.update(r.step, r.t, r.iterations, r.residual_norm);
@@ -99,7 +104,18 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   if (stopped) summary.result.message = stop_rule.message();
   progress.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out.write_summary(m, summary.result, summary.wall_seconds, solver->name());
+  io::JsonValue extra = io::JsonValue::object();
+  io::JsonValue& points = extra["limit_points"];
+  points = io::JsonValue::array();
+  for (const auto& p : limits.found()) {
+    io::JsonValue j = io::JsonValue::object();
+    j.set("t", p.t).set("kind", p.maximum ? "maximum" : "minimum").set("step", p.step).set("path_length", p.path_length);
+    io::JsonValue values = io::JsonValue::object();
+    for (const auto& [name, value] : p.values) values.set(name, value);
+    j.set("values", std::move(values));
+    points.push_back(std::move(j));
+  }
+  out.write_summary(m, summary.result, summary.wall_seconds, solver->name(), &extra);
   return summary;
 }
 

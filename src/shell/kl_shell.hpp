@@ -1,16 +1,23 @@
 #pragma once
-// Nonlinear Kirchhoff-Love shell with a St. Venant-Kirchhoff (plane stress) material, Sec. 3.1 of the
-// paper (Eqs. 8-31) and its linearization (Appendix A). Everything here is a pure function of the basis
-// functions at ONE quadrature point and of the element's reference/current control points: no mesh.
+// Nonlinear Kirchhoff-Love shell, Sec. 3.1 of the paper (Eqs. 8-31) and its linearization (Appendix A),
+// with the material behind ShellMaterial (material.hpp; St. Venant-Kirchhoff, Eq. 26, or neo-Hookean).
+// Everything here is a pure function of the basis functions at ONE quadrature point and of the element's
+// reference/current control points: no mesh.
 #include <Eigen/Dense>
+#include <memory>
 #include <vector>
 
 namespace fibrane::shell {
 
+class ShellMaterial;
+
+// The shell's cross-section: thickness h and the material that turns strains into section forces.
 struct ShellSection {
-  double young;      // Young's modulus E
-  double poisson;    // Poisson's ratio nu
-  double thickness;  // h
+  double thickness = 0.0;                         // h
+  std::shared_ptr<const ShellMaterial> material;  // never null in a section the kernel is given
+
+  // St. Venant-Kirchhoff section (Eq. 26): Young's modulus E, Poisson's ratio nu, thickness h.
+  static ShellSection svk(double young, double poisson, double thickness);
 };
 
 // Rational basis functions at one point of the surface and their parametric derivatives:
@@ -47,7 +54,8 @@ class ElementTangent {
 // X: reference control points (3 x nen), x: current control points (3 x nen).
 // residual = dPi/du (internal virtual work, Eq. 28); tangent = d residual / du (Appendix A).
 // `residual` and `tangent` must already have size 3 nen (x 3 nen); they are accumulated into.
-// Throws std::invalid_argument on inconsistent sizes or nen > kMaxShellNodes. Does not allocate.
+// Throws std::invalid_argument on inconsistent sizes, nen > kMaxShellNodes or a section without material.
+// Does not allocate (the material must not either: see ShellMaterial).
 // The element loop's form: `tangent` accumulates until ElementTangent::add_to (reset to nen before).
 void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::Matrix3Xd& X,
                      const Eigen::Matrix3Xd& x, double weight, double* energy, Eigen::VectorXd* residual,
@@ -64,7 +72,7 @@ void add_shell_point(const ShellSection& s, const BasisDerivs& R, const Eigen::M
 
 // Strain measures and section forces at a point.
 //  E, K:   covariant components E_ab (Eq. 17) and K_ab (Eq. 18), w.r.t. the reference dual basis G^a x G^b.
-//  N, M:   contravariant section forces/moments N^ab, M^ab (Eq. 29), w.r.t. the reference basis G_a x G_b;
+//  N, M:   contravariant section forces/moments N^ab, M^ab (Eq. 28; Eq. 29 for SVK), w.r.t. the reference basis G_a x G_b;
 //          N^ab = d(energy density)/dE_ab, M^ab = d(energy density)/dK_ab.
 //  N_local, M_local: the push-forward (J_S/j_S) N^ab g_a x g_b (force / moment per CURRENT length, the
 //          thickness-integrated Cauchy stress) in the orthonormal frame e1 = g1/|g1|, e2 = n x e1.

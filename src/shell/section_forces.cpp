@@ -1,8 +1,9 @@
-// Section forces and moments (Eq. 29) for output: reference contravariant components and their
-// push-forward to a local orthonormal frame of the current configuration.
+// Section forces and moments (Eq. 28, from the section's material) for output: reference contravariant
+// components and their push-forward to a local orthonormal frame of the current configuration.
 #include <stdexcept>
 
 #include "shell/kl_shell.hpp"
+#include "shell/material.hpp"
 #include "shell/surface_metric.hpp"
 
 namespace fibrane::shell {
@@ -21,18 +22,16 @@ SectionForces section_forces(const ShellSection& s, const BasisDerivs& R, const 
                              const Eigen::Matrix3Xd& x) {
   if (X.cols() != R.cols() || x.cols() != R.cols())
     throw std::invalid_argument("section_forces: basis and control points disagree on the node count");
+  if (!s.material) throw std::invalid_argument("section_forces: the section has no material");
   const SurfaceMetric ref = surface_metric(R, X);
   const SurfaceMetric cur = surface_metric(R, x);
-  const double h = s.thickness;
-  const Eigen::Matrix3d D = plane_stress_matrix(s, ref.inverse_metric);
-  const Eigen::Vector3d e = membrane_strain(cur, ref);
-  const Eigen::Vector3d k = curvature_change(cur, ref);
+  const SectionResponse response = s.material->respond(ref, cur, s.thickness, false);
 
   SectionForces out;
-  out.E = from_voigt(e, 0.5);
-  out.K = from_voigt(k, 0.5);
-  out.N = from_voigt(h * D * e, 1.0);
-  out.M = from_voigt((h * h * h / 12.0) * D * k, 1.0);
+  out.E = from_voigt(membrane_strain(cur, ref), 0.5);
+  out.K = from_voigt(curvature_change(cur, ref), 0.5);
+  out.N = from_voigt(response.N, 1.0);
+  out.M = from_voigt(response.M, 1.0);
 
   // Push-forward n = (J_S / j_S) N^ab g_a x g_b, expressed in e1 = g1/|g1|, e2 = n x e1:
   // components T N T^T with T_ia = e_i . g_a.

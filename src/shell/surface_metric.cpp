@@ -33,22 +33,4 @@ SurfaceMetric surface_metric(const BasisDerivs& R, const Eigen::Matrix3Xd& point
   return m;
 }
 
-Eigen::Matrix3d plane_stress_matrix(const ShellSection& s, const Eigen::Matrix2d& Ginv) {
-  const double factor = s.young / (1.0 - s.poisson * s.poisson);
-  const double shear = 0.5 * (1.0 - s.poisson);
-  // Voigt index -> tensor index pair: 0 -> 11, 1 -> 22, 2 -> 12.
-  constexpr int first[3] = {0, 1, 0};
-  constexpr int second[3] = {0, 1, 1};
-  Eigen::Matrix3d D;
-  for (int i = 0; i < 3; ++i) {
-    const int a = first[i], b = second[i];
-    for (int j = 0; j < 3; ++j) {
-      const int c = first[j], d = second[j];
-      D(i, j) = factor * (s.poisson * Ginv(a, b) * Ginv(c, d) +
-                          shear * (Ginv(a, c) * Ginv(b, d) + Ginv(a, d) * Ginv(b, c)));
-    }
-  }
-  return D;
-}
-
 }  // namespace fibrane::shell

@@ -1,6 +1,6 @@
 #pragma once
-// Differential geometry of the shell midsurface at one point (Sec. 3.1.1) and the plane-stress material
-// matrix (Eq. 26), shared by the point kernel and the section-force evaluation.
+// Differential geometry of the shell midsurface at one point (Sec. 3.1.1), shared by the point kernel, the
+// section-force evaluation and the materials (material.hpp).
 //
 // Symmetric 2x2 surface tensors are stored in Voigt order (11, 22, 12). Strain-like quantities carry the
 // engineering factor 2 on the 12 entry, so that E_ab C^abcd E_cd = e^T D e with D_ij = C^{(i)(j)} and the
@@ -11,6 +11,8 @@
 
 namespace fibrane::shell {
 
+// The first and second fundamental forms of the midsurface at one point, with the base vectors they come
+// from; the same struct serves the reference (G_a, G_ab, B_ab, ...) and the current configuration.
 struct SurfaceMetric {
   Eigen::Vector3d g1, g2;          // covariant base vectors g_a = r_,a (Eq. 10)
   Eigen::Vector3d g11, g22, g12;   // second parametric derivatives r_,ab
@@ -24,10 +26,6 @@ struct SurfaceMetric {
 
 // Evaluates the metric of the surface r = sum_A R_A points_A. `points` has one column per basis function.
 SurfaceMetric surface_metric(const BasisDerivs& R, const Eigen::Matrix3Xd& points);
-
-// Plane-stress St. Venant-Kirchhoff matrix per unit thickness in Voigt form, Eq. 26 written with the
-// reference metric: C^abcd = E/(1-nu^2) [nu G^ab G^cd + (1-nu)/2 (G^ac G^bd + G^ad G^bc)].
-Eigen::Matrix3d plane_stress_matrix(const ShellSection& s, const Eigen::Matrix2d& inverse_reference_metric);
 
 // Voigt strain vectors with engineering 12 entries: membrane strain E_ab = (g_ab - G_ab)/2 (Eq. 17) and
 // change of curvature K_ab = b_ab - B_ab (Eq. 18).

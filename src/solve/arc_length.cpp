@@ -363,6 +363,7 @@ StepReport ArcLength::advance(NonlinearSystem& sys, Eigen::VectorXd& q, const At
   report.cutbacks = cutbacks;
   report.history = at.history;
   report.negative_eigenvalues = have_tangent ? tangent.negative_eigenvalues : -1;
+  report.path_length = path_length_;
   if (newton_.verbose)
     std::fprintf(stderr, "arc-length step %d: t=%.6g dt=%.3g ds=%.3g iterations=%d%s\n", steps_, t_, report.dt, ds,
                  at.iterations, report.limit_point ? " (limit point)" : "");
@@ -379,6 +380,38 @@ bool ArcLength::end_reached(bool landed, ContinuationResult& res) const {
   res.message = landed        ? "reached t_end = " + format_number(ac.t_end)
                 : long_enough ? "reached the path length " + format_number(path_length_)
                               : "t = " + format_number(t_) + " left [t_min, t_max]";
+  return true;
+}
+
+// A path starts at an equilibrium: a start that is not one (a beam released above a plate it attracts)
+// is first solved at fixed t_start by Newton, and that state is reported as a step with dt = 0.
+bool ArcLength::start_in_equilibrium(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
+                                     const StepCallback& on_step, ContinuationResult& res) {
+  sys.evaluate(q, t_, false);
+  const double r0 = sys.residual().norm();
+  if (sys.invalid_state().empty() && r0 <= std::max(newton_.tol_relative * sys.residual_scale(), newton_.tol_absolute))
+    return true;
+  const NewtonReport newton = newton_solve(sys, q, t_, newton_, solver);
+  res.total_iterations += newton.iterations;
+  if (!newton.converged) {
+    sys.reject();
+    res.outcome = Outcome::failed;
+    res.message = "no equilibrium at the start t = " + format_number(t_) + ": " + newton.failure;
+    return false;
+  }
+  sys.accept(q, t_);
+  StepReport report;
+  report.step = steps_ = res.steps = 1;
+  report.t = t_;
+  report.iterations = newton.iterations;
+  report.residual_norm = newton.residual_norm;
+  report.history = newton.history;
+  report.negative_eigenvalues = newton.negative_eigenvalues;
+  if (on_step && !on_step(report, q)) {
+    res.outcome = Outcome::stopped;
+    res.message = "stopped by the step callback at the start";
+    return false;
+  }
   return true;
 }
 
@@ -399,6 +432,7 @@ ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, Line
   ContinuationResult res;
   res.t_reached = t_;
   res.steps = steps_;
+  if (!restored_ && !start_in_equilibrium(sys, q, solver, on_step, res)) return res;
   Tangent tangent;
   for (bool have_tangent = false;;) {
     if (res.steps >= ac.max_steps) {

@@ -137,6 +137,8 @@ class ArcLength final : public ContinuationMethod {
  private:
   struct Tangent;
   struct Attempt;
+  bool start_in_equilibrium(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
+                            const StepCallback& on_step, ContinuationResult& res);
   bool tangent_at_state(NonlinearSystem& sys, LinearSolver& solver, Tangent& tangent);
   int predictor_sign(const Tangent& tangent);
   bool step(NonlinearSystem& sys, const Eigen::VectorXd& q, const Tangent& tangent, LinearSolver& solver,

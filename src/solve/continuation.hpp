@@ -37,6 +37,7 @@ struct StepReport {
   std::vector<double> history;   // residual norms of the converged attempt
   int negative_eigenvalues = -1;  // of the reduced tangent at the converged state; -1: not known
   bool limit_point = false;       // the load parameter passed an extremum within this step
+  double path_length = 0;         // arc-length methods: the path's length from the start to this point
   std::optional<EnergyReport> energy{};  // time-integration methods only
 };
 

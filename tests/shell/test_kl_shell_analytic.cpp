@@ -41,11 +41,12 @@ TEST(BezierTestHelper, BasisIsPartitionOfUnityWithConsistentDerivatives) {
 // y so that the Green strain is uniaxial-stress: E_yy = -nu E_xx, hence S_xx = E E_xx, S_yy = S_xy = 0.
 // The contravariant section forces must be N^ab = h G^a . S . G^b.
 TEST(ShellAnalytic, UniaxialMembraneStretchOfFlatPlate) {
-  const ShellSection s{2.0e5, 0.3, 0.01};
+  const double young = 2.0e5, poisson = 0.3;
+  const ShellSection s = ShellSection::svk(young, poisson, 0.01);
   const Eigen::Vector3d a(2.0, 0.0, 0.0), b(0.5, 1.5, 0.0);
   const Eigen::Matrix3Xd X = affine_patch(2, 2, a, b);
   const double lambda1 = 1.1, exx = 0.5 * (lambda1 * lambda1 - 1.0);
-  const double lambda2 = std::sqrt(1.0 - 2.0 * s.poisson * exx);  // (lambda2^2 - 1)/2 = -nu exx
+  const double lambda2 = std::sqrt(1.0 - 2.0 * poisson * exx);  // (lambda2^2 - 1)/2 = -nu exx
   const Eigen::Matrix3d F = Eigen::Vector3d(lambda1, lambda2, 1.0).asDiagonal();
   const Eigen::Matrix3Xd x = F * X;
   const BasisDerivs R = bezier_basis(2, 2, 0.3, 0.7);
@@ -55,7 +56,7 @@ TEST(ShellAnalytic, UniaxialMembraneStretchOfFlatPlate) {
   G << a, b;
   Gdual = G * (G.transpose() * G).inverse();
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
-  S(0, 0) = s.young * exx;
+  S(0, 0) = young * exx;
   const Eigen::Matrix2d expected = s.thickness * Gdual.transpose() * S * Gdual;
   // Only round-off separates the two evaluations; 1e-12 relative to the largest component.
   const double tol = 1e-12 * expected.cwiseAbs().maxCoeff();
@@ -63,14 +64,14 @@ TEST(ShellAnalytic, UniaxialMembraneStretchOfFlatPlate) {
     for (int j = 0; j < 2; ++j) EXPECT_NEAR(f.N(i, j), expected(i, j), tol) << i << j;
   EXPECT_LT(f.M.cwiseAbs().maxCoeff(), tol);
   // Force per current length: N_xx = h S_xx lambda1 / lambda2 (Cauchy = F S F^T / det F), e1 = x axis.
-  EXPECT_NEAR(f.N_local(0, 0), s.thickness * s.young * exx * lambda1 / lambda2, tol);
+  EXPECT_NEAR(f.N_local(0, 0), s.thickness * young * exx * lambda1 / lambda2, tol);
   EXPECT_NEAR(f.N_local(1, 1), 0.0, tol);
   EXPECT_NEAR(f.N_local(0, 1), 0.0, tol);
   // Poisson coupling: a pure x stretch (lambda2 = 1) gives S_yy = nu S_xx.
   const Eigen::Matrix3Xd x_plane_strain = Eigen::Vector3d(lambda1, 1.0, 1.0).asDiagonal() * X;
   const SectionForces g = section_forces(s, R, X, x_plane_strain);
   // S_yy = nu S_xx; the push-forward scales xx by lambda1 and yy by 1 / lambda1.
-  EXPECT_NEAR(g.N_local(1, 1) * lambda1 * lambda1, s.poisson * g.N_local(0, 0), 1e-12 * g.N_local(0, 0));
+  EXPECT_NEAR(g.N_local(1, 1) * lambda1 * lambda1, poisson * g.N_local(0, 0), 1e-12 * g.N_local(0, 0));
 }
 
 // A flat strip (reference) bent into a circular cylinder of radius rho (current) represented exactly by a
@@ -79,7 +80,8 @@ TEST(ShellAnalytic, UniaxialMembraneStretchOfFlatPlate) {
 // the physical bending moment must be m_11 = D / rho, m_22 = nu D / rho, m_12 = 0 with
 // D = E h^3 / (12 (1 - nu^2)).
 TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
-  const ShellSection s{2.0e5, 0.3, 0.05};
+  const double young = 2.0e5, poisson = 0.3;
+  const ShellSection s = ShellSection::svk(young, poisson, 0.05);
   const double rho = 1.7, half_angle = 0.6, width = 0.8, u0 = 0.3, v0 = 0.55;
   // Arc in the x-z plane around the origin; the cylinder axis is y.
   const Eigen::Vector3d arc[3] = {rho * Eigen::Vector3d(std::sin(-half_angle), 0.0, std::cos(-half_angle)),
@@ -102,7 +104,7 @@ TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
   ASSERT_NEAR(radial.norm(), rho, 1e-12) << "the rational arc must lie on the cylinder";
 
   const SectionForces f = section_forces(s, R, X, x);
-  const double D = s.young * std::pow(s.thickness, 3) / (12.0 * (1.0 - s.poisson * s.poisson));
+  const double D = young * std::pow(s.thickness, 3) / (12.0 * (1.0 - poisson * poisson));
   // The sign of the curvature follows the normal orientation: b_11 > 0 when n points to the axis.
   const Eigen::Vector3d normal = g1.cross(x * R.row(2).transpose()).normalized();
   const double inward = -normal.dot(radial.normalized());
@@ -112,10 +114,10 @@ TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
   const double tol = 1e-10 * std::abs(m);
   EXPECT_LT(f.E.cwiseAbs().maxCoeff(), 1e-14);
   EXPECT_NEAR(f.M_local(0, 0), m, tol);
-  EXPECT_NEAR(f.M_local(1, 1), s.poisson * m, tol);
+  EXPECT_NEAR(f.M_local(1, 1), poisson * m, tol);
   EXPECT_NEAR(f.M_local(0, 1), 0.0, tol);
   EXPECT_NEAR(f.M(0, 0) * g1.squaredNorm(), m, tol);  // contravariant M^11 times |G_1|^2 = |g_1|^2
-  EXPECT_LT(f.N.cwiseAbs().maxCoeff(), 1e-9 * s.young * s.thickness);
+  EXPECT_LT(f.N.cwiseAbs().maxCoeff(), 1e-9 * young * s.thickness);
   // Energy per unit reference area: psi = (1/2)(m_11 kappa_11 + m_22 kappa_22) = D / (2 rho^2), kappa_22 = 0.
   double energy = 0.0;
   add_shell_point(s, R, X, x, 1.0, &energy, nullptr);
@@ -127,7 +129,7 @@ TEST(ShellAnalytic, PureBendingOfFlatStripIntoCylinder) {
 // path x(t), d psi/dt = N^ab dE_ab/dt + M^ab dK_ab/dt (sum over all four ab), and psi = (N:E + M:K)/2.
 TEST(ShellAnalytic, SectionForcesAreEnergyDerivatives) {
   std::mt19937 rng(21);
-  const ShellSection s{1000.0, 0.25, 0.6};
+  const ShellSection s = ShellSection::svk(1000.0, 0.25, 0.6);
   const auto w = testing::random_weights(16, rng);
   const BasisDerivs R = bezier_basis(3, 3, 0.62, 0.28, w);
   const Eigen::Matrix3Xd X = testing::random_curved_patch(3, 3, rng);

@@ -61,7 +61,7 @@ testing::PointResult evaluate_part(Part part, const ShellSection& s, const Patch
 class ShellKernelDerivatives : public ::testing::TestWithParam<Case> {};
 
 TEST_P(ShellKernelDerivatives, ResidualMatchesEnergyDifferences) {
-  const ShellSection section{1000.0, 0.3, 0.8};
+  const ShellSection section = ShellSection::svk(1000.0, 0.3, 0.8);
   const PatchState d = make_setup(GetParam(), 11);
   for (Part part : {Part::total, Part::membrane, Part::bending}) {
     const auto exact = evaluate_part(part, section, d, d.x);
@@ -75,7 +75,7 @@ TEST_P(ShellKernelDerivatives, ResidualMatchesEnergyDifferences) {
 }
 
 TEST_P(ShellKernelDerivatives, TangentMatchesResidualDifferences) {
-  const ShellSection section{1000.0, 0.3, 0.8};
+  const ShellSection section = ShellSection::svk(1000.0, 0.3, 0.8);
   const PatchState d = make_setup(GetParam(), 12);
   for (Part part : {Part::total, Part::membrane, Part::bending}) {
     const auto exact = evaluate_part(part, section, d, d.x);
@@ -89,13 +89,13 @@ TEST_P(ShellKernelDerivatives, TangentMatchesResidualDifferences) {
 
 TEST_P(ShellKernelDerivatives, TangentIsSymmetric) {
   const PatchState d = make_setup(GetParam(), 13);
-  const auto r = evaluate({1000.0, 0.3, 0.5}, d.R, d.X, d.x);
+  const auto r = evaluate(ShellSection::svk(1000.0, 0.3, 0.5), d.R, d.X, d.x);
   // Symmetry is built in by mirroring blocks; 1e-13 relative allows for nothing but round-off.
   EXPECT_LT((r.tangent - r.tangent.transpose()).cwiseAbs().maxCoeff(), 1e-13 * r.tangent.cwiseAbs().maxCoeff());
 }
 
 TEST_P(ShellKernelDerivatives, RigidBodyMotionIsStressFree) {
-  const ShellSection section{1000.0, 0.3, 0.5};
+  const ShellSection section = ShellSection::svk(1000.0, 0.3, 0.5);
   const PatchState d = make_setup(GetParam(), 14);
   std::mt19937 rng(15);
   const Eigen::Matrix3d Q = testing::random_rotation(rng);
@@ -134,7 +134,7 @@ INSTANTIATE_TEST_SUITE_P(Patches, ShellKernelDerivatives,
 
 TEST(ShellKernel, AccumulatesWithWeightAndOnlyIntoRequestedOutputs) {
   const PatchState d = make_setup({2, 2, false, 0.4, 0.4}, 16);
-  const ShellSection section{1000.0, 0.3, 0.5};
+  const ShellSection section = ShellSection::svk(1000.0, 0.3, 0.5);
   const auto once = evaluate(section, d.R, d.X, d.x, 1.0);
   // Two calls with weights 0.25 and 0.5 must add up to 0.75 times one call with weight 1.
   double energy = 1.0;
