@@ -25,6 +25,9 @@ int main(int argc, char** argv) {
   } catch (const std::exception& e) {
     std::cerr << "fibrane: failed: " << e.what() << "\n";
     return 1;
+  } catch (...) {
+    std::cerr << "fibrane: failed: an unknown error\n";
+    return 1;
   }
   return 0;
 }

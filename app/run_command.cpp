@@ -1,4 +1,5 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet] [--newton-log]`
+// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -12,17 +13,22 @@ void register_run_command(CLI::App& app) {
   struct Options {
     std::string case_file;
     run::RunOptions run;
+    int max_steps = 0;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
   cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
-  cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
+  cmd->add_option("--max-steps", opt->max_steps, "Stop after at most this many steps (default: the case's steps.max_steps)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
   cmd->callback([opt]() {
     // Reading the whole case first: bad input stops here, before any output file exists.
     casefile::Case c = casefile::read_case(opt->case_file);
+    if (opt->max_steps > 0) c.run.steps.max_steps = std::min(c.run.steps.max_steps, opt->max_steps);
     const auto s = run::run_case(c, opt->run);
     std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
               << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "

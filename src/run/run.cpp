@@ -13,6 +13,7 @@
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
 #include "run/limit_points.hpp"
+#include "run/run_checks.hpp"
 #include "solve/arc_length.hpp"
 #include "solve/linear_solver.hpp"
 #include "solve/linear_step.hpp"
@@ -67,6 +68,8 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   model::Model& m = *c.model;
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
+  check_output_directory(c, summary.directory);
+  check_finite_model(c);
   output::RunOutput out(c, summary.directory);
   auto solver = solve::make_linear_solver(c.run.linear_solver, m.symmetric());
   auto method = make_method(c.run, options.newton_log);
