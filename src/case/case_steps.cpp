@@ -132,9 +132,6 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();
-  run.arc_length.t_start = s.t_start;
-  run.arc_length.t_end = s.t_end;
-  run.arc_length.max_steps = s.max_steps;
 }
 
 }  // namespace fibrane::casefile

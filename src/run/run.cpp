@@ -26,7 +26,13 @@ std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettin
   newton.verbose = verbose;
   switch (s.method) {
     case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
-    case casefile::Method::arc_length: return std::make_unique<solve::ArcLength>(s.arc_length, newton);
+    case casefile::Method::arc_length: {
+      solve::ArcLengthControl control = s.arc_length;  // the run's range and step budget are those of `steps`
+      control.t_start = s.steps.t_start;
+      control.t_end = s.steps.t_end;
+      control.max_steps = s.steps.max_steps;
+      return std::make_unique<solve::ArcLength>(control, newton);
+    }
     case casefile::Method::dynamics: return std::make_unique<solve::GeneralizedAlpha>(s.steps, newton, s.dynamics);
     case casefile::Method::load_stepping: break;
   }
