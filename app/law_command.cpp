@@ -5,6 +5,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "case/case_laws.hpp"
 #include "commands.hpp"
@@ -30,7 +31,18 @@ std::string number(double x) {
   return buffer;
 }
 
+// Prints the law's value and derivatives as one JSON line; a non-finite number is a failure of the
+// evaluation (exit code 1), never printed.
 void print_json(const std::string& law, const laws::LawValue& v, const std::string& extra = "") {
+  const std::pair<const char*, double> values[] = {{"value", v.value}, {"d_distance", v.d_d}, {"d_cos", v.d_c},
+                                                   {"d2_distance", v.d_dd}, {"d2_cos", v.d_cc},
+                                                   {"d2_distance_cos", v.d_dc}, {"reduced_d_cos", v.reduced_c},
+                                                   {"reduced_d2_distance_cos", v.reduced_dc}};
+  for (const auto& [name, x] : values)
+    if (!std::isfinite(x))
+      throw std::runtime_error("the " + law + " law gave " + (std::isnan(x) ? "no number" : "an infinite number") +
+                               " for " + name + " at these arguments: outside the range where it can be evaluated "
+                               "in double precision");
   std::cout << "{\"law\": \"" << law << "\"" << extra << ", \"value\": " << number(v.value)
             << ", \"d_distance\": " << number(v.d_d) << ", \"d_cos\": " << number(v.d_c)
             << ", \"d2_distance\": " << number(v.d_dd) << ", \"d2_cos\": " << number(v.d_cc)
@@ -41,6 +53,15 @@ void print_json(const std::string& law, const laws::LawValue& v, const std::stri
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw InputError(message);
+}
+
+// Every numeric option must be a finite number (CLI11 accepts 'nan' and 'inf').
+void require_finite(const LawOptions& o) {
+  const std::pair<const char*, double> options[] = {
+      {"--m", o.m}, {"--radius", o.radius}, {"--thickness", o.thickness}, {"--distance", o.distance},
+      {"--cos", o.cosine}, {"--epsilon", o.epsilon}, {"--sigma", o.sigma}, {"--density-beam", o.density_beam},
+      {"--density-shell", o.density_shell}, {"--strength", o.strength}, {"--sphere-radius", o.sphere_radius}};
+  for (const auto& [name, x] : options) require(std::isfinite(x), std::string(name) + " must be a finite number");
 }
 
 void check_disk(const LawOptions& o, double surface_offset) {
@@ -89,6 +110,7 @@ void register_law_command(CLI::App& app) {
   half->add_option("--distance", o->distance, "Disk centre to surface distance d")->required();
   half->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
   half->callback([o]() {
+    require_finite(*o);
     check_disk(*o, 0.0);
     run([&] { print_json("disk-halfspace", laws::DiskHalfSpace(o->m, o->radius).evaluate(o->distance, o->cosine)); });
   });
@@ -100,6 +122,7 @@ void register_law_command(CLI::App& app) {
   plate->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
   plate->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
   plate->callback([o]() {
+    require_finite(*o);
     require(o->thickness > 0, "--thickness must be positive");
     check_disk(*o, 0.5 * o->thickness);
     run([&] {
@@ -118,6 +141,7 @@ void register_law_command(CLI::App& app) {
   lj->add_option("--density-shell", o->density_shell, "Shell particle density (default 1)");
   lj->add_option("--strength", o->strength, "Interaction-strength factor (default 1)");
   lj->callback([o]() {
+    require_finite(*o);
     const MapParameters p("fibrane law lj-disk-plate", {{"epsilon", o->epsilon}, {"sigma", o->sigma},
                                                          {"density_beam", o->density_beam},
                                                          {"density_shell", o->density_shell},
@@ -133,6 +157,7 @@ void register_law_command(CLI::App& app) {
   any->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
   any->add_option("--cos", o->cosine, "cos(alpha) in [0, 1]")->required();
   any->callback([o]() {
+    require_finite(*o);
     const io::YamlNode spec = io::YamlNode::load_string(o->law, "--law");
     evaluate_registry_law(*casefile::make_law(spec, {o->radius, o->thickness}), *o);
   });
@@ -145,6 +170,7 @@ void register_law_command(CLI::App& app) {
   sphere->add_option("--sphere-radius", o->sphere_radius, "Sphere radius R_S")->required();
   sphere->add_option("--distance", o->distance, "Distance between the centres")->required();
   sphere->callback([o]() {
+    require_finite(*o);
     require(o->radius > 0 && o->sphere_radius > 0, "--radius and --sphere-radius must be positive");
     require(o->distance > o->radius + o->sphere_radius, "--distance must exceed radius + sphere-radius");
     run([&] {

@@ -5,6 +5,7 @@
 #include "common/error.hpp"
 
 int main(int argc, char** argv) {
+  fibrane::app::configure_openmp_environment(argc, argv);
   CLI::App app{"fibrane: van der Waals interactions between beams and shells"};
   app.set_version_flag("--version", std::string("fibrane ") + FIBRANE_VERSION);
   app.require_subcommand(1);
@@ -23,6 +24,9 @@ int main(int argc, char** argv) {
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "fibrane: failed: " << e.what() << "\n";
+    return 1;
+  } catch (...) {
+    std::cerr << "fibrane: failed: an unknown error\n";
     return 1;
   }
   return 0;

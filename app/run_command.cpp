@@ -1,5 +1,7 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--quiet] [--newton-log]`; in builds with PETSc also
-// `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs distributed (run_mpi.cpp).
+// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`; in builds with
+// PETSc also `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs distributed
+// (run_mpi.cpp).
+#include <algorithm>
 #include <iostream>
 #include <memory>
 
@@ -17,13 +19,20 @@ void report(const run::RunSummary& s) {
   if (!s.result.completed()) std::cerr << "fibrane: " << s.result.message << "\n";
 }
 
+void apply_max_steps(casefile::Case& c, const RunCommandOptions& options) {
+  if (options.max_steps > 0) c.run.steps.max_steps = std::min(c.run.steps.max_steps, options.max_steps);
+}
+
 void register_run_command(CLI::App& app) {
   auto opt = std::make_shared<RunCommandOptions>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
   cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
-  cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
+  cmd->add_option("--max-steps", opt->max_steps, "Stop after at most this many steps (default: the case's steps.max_steps)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
   if (mpi_available())
     cmd->add_option("--mpi-solver", opt->mpi_solver,
@@ -37,6 +46,7 @@ void register_run_command(CLI::App& app) {
     }
     // Reading the whole case first: bad input stops here, before any output file exists.
     casefile::Case c = casefile::read_case(opt->case_file);
+    apply_max_steps(c, *opt);
     const auto s = run::run_case(c, opt->run);
     report(s);
     if (!s.result.completed()) throw CLI::RuntimeError(1);

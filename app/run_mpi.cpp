@@ -51,6 +51,7 @@ void run_mpi(const RunCommandOptions& o) {
   parallel::MpiDistribution distribution(session.comm());
   const bool distributed = session.size() > 1 || !o.mpi_solver.empty();
   casefile::Case c = read_everywhere(o, distribution, distributed);
+  apply_max_steps(c, o);
   run::RunOptions options = o.run;
   parallel::PetscSolverOptions solver;
   if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;

@@ -10,8 +10,12 @@ namespace fibrane::app {
 struct RunCommandOptions {
   std::string case_file;
   run::RunOptions run;
+  int max_steps = 0;       // --max-steps: bounds the case's steps.max_steps; 0 keeps it
   std::string mpi_solver;  // "mumps" or "gmres": the distributed solver; empty: by the process count
 };
+
+// Lowers the case's steps.max_steps to options.max_steps when that is set and smaller.
+void apply_max_steps(casefile::Case& c, const RunCommandOptions& options);
 
 // Whether this fibrane was built with PETSc and MPI.
 bool mpi_available();

@@ -135,9 +135,12 @@ std::string best_median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* usage =
+      "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
+      "[--rounds R]\n  analysis, factorisation and solve of the case's first tangent (shifted by -S mean(diag) I)\n";
+  if (help_requested(argc, argv, usage)) return 0;
   if (argc < 2) {
-    std::cerr << "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... "
-                 "[--shift S] [--rounds R]\n";
+    std::cerr << usage;
     return 2;
   }
   std::vector<std::pair<std::string, std::string>> edits;

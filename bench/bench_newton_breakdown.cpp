@@ -18,7 +18,7 @@
 
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
-#include "solve/load_stepping.hpp"
+#include "run/run.hpp"
 #include "solve/linear_solver.hpp"
 
 namespace {
@@ -80,9 +80,14 @@ long peak_memory_kib() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const char* usage =
+      "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--replace FROM TO]...\n"
+      "  runs the case's continuation method (steps.method) without output files and prints where the time goes\n"
+      "  --t-end T: end the run at t = T (load stepping, arc-length)\n"
+      "  --reuse R: steps.reuse_factorization for this run (default: the case's; 0 times plain Newton)\n";
+  if (help_requested(argc, argv, usage)) return 0;
   if (argc < 2) {
-    std::cerr << "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--replace FROM TO]...\n"
-                 "  --reuse R: steps.reuse_factorization for this run (default: the case's; 0 times plain Newton)\n";
+    std::cerr << usage;
     return 2;
   }
   std::string path = argv[1];
@@ -105,7 +110,7 @@ int main(int argc, char** argv) {
   }
   auto c = fibrane::casefile::read_case(path);
   auto& m = *c.model;
-  if (t_end > 0) c.run.steps.t_end = t_end;
+  if (t_end > 0) c.run.steps.t_end = c.run.arc_length.t_end = t_end;
   if (reuse >= 0) c.run.newton.reuse_below = reuse;
   TimedSolver solver(fibrane::solve::make_linear_solver(c.run.linear_solver, m.symmetric()));
   Eigen::VectorXd q = m.initial_unknowns();
@@ -113,7 +118,8 @@ int main(int argc, char** argv) {
   std::vector<int> iterations;
   int updates = 0;
   const auto t0 = clock_type::now();
-  const auto result = fibrane::solve::LoadStepping(c.run.steps, c.run.newton).run(m, q, solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
+  const auto method = fibrane::run::make_method(c.run, false);
+  const auto result = method->run(m, q, solver, [&](const fibrane::solve::StepReport& r, const Eigen::VectorXd&) {
         iterations.push_back(r.iterations);
         updates += r.iterations;
         return true;
@@ -128,8 +134,8 @@ int main(int argc, char** argv) {
   if (!iterations.empty()) mean_iterations /= iterations.size();
   const double not_factorisation = pt.shell + pt.beam + pt.projection + pt.interaction + pt.pattern + pt.other +
                                    solver.analyze_ + solver.solve_;
-  fmt::print("case {}: {} ({}, {} threads)\n", c.path, result.completed() ? "completed" : result.message,
-             solver.name(), omp_get_max_threads());
+  fmt::print("case {}: {} ({}, {}, {} threads)\n", c.path, result.completed() ? "completed" : result.message,
+             method->name(), solver.name(), omp_get_max_threads());
   fmt::print("| quantity | value |\n|---|---|\n");
   fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
   fmt::print("| matrix non-zeros (first / last factorisation) | {} / {} |\n", solver.first_nnz, solver.nnz);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "case/case_reader.hpp"
+#include "case_edit.hpp"
 #include "solve/linear_solver.hpp"
 #include "spline/quadrature.hpp"
 
@@ -128,6 +129,10 @@ struct Breakdown {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (help_requested(argc, argv,
+                     "usage: bench_shell_assembly [ELEMENTS_PER_DIRECTION (32)] [REPETITIONS (5)]\n"
+                     "  shell assembly of a Scordelis-Lo roof with 1, 2, ... threads\n"))
+    return 0;
   const int n = argc > 1 ? std::atoi(argv[1]) : 32;
   const int reps = argc > 2 ? std::atoi(argv[2]) : 5;
   auto c = fibrane::casefile::read_case(write_case(n, argv[0]));

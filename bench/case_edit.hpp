@@ -1,6 +1,7 @@
 #pragma once
 // The bench programs' common options: `--threads N` and `--replace FROM TO` (a copy of a case file with
 // text replaced, to change the mesh of an example without editing it).
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,15 @@
 #include <vector>
 
 #include "solve/linear_solver.hpp"
+
+// True (after printing `usage` on stdout) when the first argument asks for help: the caller returns 0.
+inline bool help_requested(int argc, char** argv, const char* usage) {
+  if (argc < 2) return false;
+  const std::string a = argv[1];
+  if (a != "--help" && a != "-h") return false;
+  std::fputs(usage, stdout);
+  return true;
+}
 
 // The path of the edited copy (in the temporary directory), or `path` itself without edits. Throws
 // std::runtime_error if a FROM is not in the file.

@@ -9,6 +9,7 @@
 #include <exception>
 
 #include "case/case_reader.hpp"
+#include "case_edit.hpp"
 #include "solve/load_stepping.hpp"
 #include "solve/linear_solver.hpp"
 
@@ -23,6 +24,10 @@ double observed_order(double r0, double r1, double r2) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (help_requested(argc, argv,
+                     "usage: shell_newton_log CASE.yaml [MAX_STEPS_TO_PRINT]\n"
+                     "  |r| of every Newton iteration of the case's load stepping, with contraction and order\n"))
+    return 0;
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s <case.yaml> [max_steps_to_print]\n", argv[0]);
     return 2;

@@ -27,7 +27,7 @@ enum class Method { load_stepping, linear, arc_length, dynamics };
 struct RunSettings {
   Method method = Method::load_stepping;
   solve::StepControl steps;
-  solve::ArcLengthControl arc_length;  // t_start, t_end and max_steps follow `steps`
+  solve::ArcLengthControl arc_length;  // its t_start, t_end and max_steps are ignored: run::make_method takes those of `steps`
   solve::TransientOptions dynamics;    // time steps: `steps` (t is time)
   solve::NewtonOptions newton;
   std::string linear_solver = "auto";

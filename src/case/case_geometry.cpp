@@ -4,6 +4,9 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "case/case_limits.hpp"
 #include "spline/shapes.hpp"
 
 namespace fibrane::casefile {
@@ -19,14 +22,18 @@ std::vector<Eigen::Vector3d> read_points(const io::YamlNode& node) {
   return pts;
 }
 
-std::pair<double, double> read_range(const io::YamlNode& node, double scale) {
+// An angle range [from, to] in degrees, returned in radians: to > from, to - from <= 360, and, where
+// `lo` < `hi` are given, both ends inside [lo, hi].
+std::pair<double, double> read_range(const io::YamlNode& node, double lo = -INFINITY, double hi = INFINITY) {
   const auto v = node.as_doubles();
-  if (v.size() != 2 || !(v[1] > v[0])) node.fail("[from, to] with to > from");
-  return {v[0] * scale, v[1] * scale};
+  if (v.size() != 2 || !(v[1] > v[0]) || v[1] - v[0] > 360.0)
+    node.fail("[from, to] in degrees with from < to <= from + 360");
+  if (v[0] < lo || v[1] > hi) node.fail(fmt::format("[from, to] in degrees within [{:g}, {:g}]", lo, hi));
+  return {v[0] * deg, v[1] * deg};
 }
 
 spline::KnotVector read_knots(const io::YamlNode& degree, const io::YamlNode& knots) {
-  const int p = degree.positive_int();
+  const int p = read_degree(degree);
   try {
     return spline::KnotVector(p, knots.as_doubles());
   } catch (const std::invalid_argument& e) {
@@ -46,25 +53,48 @@ std::vector<double> read_weights(const io::YamlNode& g, std::size_t expected) {
   return values;
 }
 
-template <class Refine>
-void apply_refinement(const std::optional<io::YamlNode>& refine, int dims, Refine&& apply) {
+// Element counts of a refine block: one positive integer per direction, at most kMaxElementsPerDirection.
+std::vector<int> read_element_counts(const io::YamlNode& elements, int dims) {
+  const std::string expected = fmt::format("{} in [1, {}]", dims == 1 ? "the number of elements, an integer" : "[n_u, n_v], integers",
+                                           kMaxElementsPerDirection);
+  std::vector<double> v;
+  if (dims == 1) {
+    v.push_back(elements.as_double());
+  } else {
+    v = elements.as_doubles();
+    if (v.size() != 2) elements.fail(expected);
+  }
+  std::vector<int> counts;
+  for (double x : v) {
+    if (!(x >= 1 && x <= kMaxElementsPerDirection) || x != std::floor(x)) elements.fail(expected);
+    counts.push_back(static_cast<int>(x));
+  }
+  return counts;
+}
+
+// Control points per direction after refining a direction that has `existing` elements to `degree`,
+// `continuity` and `n` uniform elements (an upper bound: the existing knots stay).
+double refined_control_points(int existing, int degree, int continuity, int n) {
+  return static_cast<double>(n + existing) * (degree - continuity) + continuity + 1;
+}
+
+// `size(degree, continuity, counts)` estimates the refined body's size; it is checked against the machine's
+// memory together with `others` before `apply` refines.
+template <class Size, class Refine>
+void apply_refinement(const std::optional<io::YamlNode>& refine, int dims, const ModelSize& others, Size&& size,
+                      Refine&& apply) {
   if (!refine) return;
-  const int degree = (*refine)["degree"].positive_int();
+  const int degree = read_degree((*refine)["degree"]);
   const int continuity = (*refine).get("continuity", degree - 1);
   if (continuity < 0 || continuity >= degree)
     (*refine)["continuity"].fail("an inter-element continuity in [0, degree - 1] = [0, " +
                                  std::to_string(degree - 1) + "]");
   const auto elements = (*refine)["elements"];
-  std::vector<int> counts;
-  if (dims == 1) {
-    counts.push_back(elements.positive_int());
-  } else {
-    const auto v = elements.as_doubles();
-    if (v.size() != 2 || v[0] < 1 || v[1] < 1 || v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]))
-      elements.fail("[n_u, n_v], two positive integers");
-    counts = {static_cast<int>(v[0]), static_cast<int>(v[1])};
-  }
+  const std::vector<int> counts = read_element_counts(elements, dims);
   refine->reject_unknown_keys();
+  ModelSize total = others;
+  total += size(degree, continuity, counts);
+  check_fits(total, elements);
   try {
     for (int d = 0; d < dims; ++d) apply(d, degree, continuity, counts[d]);
   } catch (const std::invalid_argument& e) {
@@ -74,7 +104,8 @@ void apply_refinement(const std::optional<io::YamlNode>& refine, int dims, Refin
 
 }  // namespace
 
-spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io::YamlNode>& refine) {
+spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io::YamlNode>& refine,
+                                  const ModelSize& others) {
   auto surface = [&]() -> spline::NurbsSurface {
     if (auto r = g.optional("rectangle")) {
       const Eigen::Vector3d o = (*r)["origin"].as_vector3();
@@ -86,14 +117,14 @@ spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io:
     }
     if (auto c = g.optional("cylinder")) {
       const double radius = (*c)["radius"].positive(), length = (*c)["length"].positive();
-      const auto [a0, a1] = read_range((*c)["angles"], deg);
+      const auto [a0, a1] = read_range((*c)["angles"]);
       c->reject_unknown_keys();
       return spline::make_cylinder_patch(radius, length, a0, a1);
     }
     if (auto s = g.optional("sphere")) {
       const double radius = (*s)["radius"].positive();
-      const auto [t0, t1] = read_range((*s)["theta"], deg);
-      const auto [p0, p1] = read_range((*s)["phi"], deg);
+      const auto [t0, t1] = read_range((*s)["theta"]);
+      const auto [p0, p1] = read_range((*s)["phi"], -90.0, 90.0);
       s->reject_unknown_keys();
       return spline::make_sphere_patch(radius, t0, t1, p0, p1);
     }
@@ -115,11 +146,18 @@ spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io:
     g.fail("one of 'rectangle', 'cylinder', 'sphere' or 'nurbs'");
   }();
   g.reject_unknown_keys();
-  apply_refinement(refine, 2, [&](int d, int p, int c, int n) { surface.refine(d, p, c, n); });
+  auto size = [&](int p, int c, const std::vector<int>& n) {
+    const int e0 = surface.knots(0).num_elements(), e1 = surface.knots(1).num_elements();
+    return shell_size(refined_control_points(e0, p, c, n[0]) * refined_control_points(e1, p, c, n[1]),
+                      static_cast<double>(n[0] + e0) * (n[1] + e1), p, p, p + 1);
+  };
+  apply_refinement(refine, 2, others, size, [&](int d, int p, int c, int n) { surface.refine(d, p, c, n); });
+  check_surface_metric(surface, g);
   return surface;
 }
 
-spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::YamlNode>& refine) {
+spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::YamlNode>& refine,
+                              const ModelSize& others) {
   auto curve = [&]() -> spline::NurbsCurve {
     if (auto l = g.optional("line")) {
       const Eigen::Vector3d a = (*l)["from"].as_vector3(), b = (*l)["to"].as_vector3();
@@ -129,13 +167,17 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
     }
     if (auto a = g.optional("arc")) {
       const Eigen::Vector3d c = (*a)["center"].as_vector3();
-      const Eigen::Vector3d e1 = (*a)["e1"].as_vector3().normalized();
+      Eigen::Vector3d e1 = (*a)["e1"].as_vector3();
+      if (!(e1.norm() > 0)) (*a)["e1"].fail("a non-zero direction");
+      e1.normalize();
       Eigen::Vector3d e2 = (*a)["e2"].as_vector3();
+      if (!(e2.norm() > 0)) (*a)["e2"].fail("a non-zero direction");
+      e2.normalize();
       e2 = (e2 - e2.dot(e1) * e1);
-      if (e2.norm() < 1e-12) (*a)["e2"].fail("a direction not parallel to e1");
+      if (e2.norm() < 1e-9) (*a)["e2"].fail("a direction not parallel to e1");
       e2.normalize();
       const double radius = (*a)["radius"].positive();
-      const auto [a0, a1] = read_range((*a)["angles"], deg);
+      const auto [a0, a1] = read_range((*a)["angles"]);
       a->reject_unknown_keys();
       return spline::make_arc(c, e1, e2, radius, a0, a1);
     }
@@ -152,7 +194,12 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
     g.fail("one of 'line', 'arc' or 'nurbs'");
   }();
   g.reject_unknown_keys();
-  apply_refinement(refine, 1, [&](int, int p, int c, int n) { curve.refine(p, c, n); });
+  auto size = [&](int p, int c, const std::vector<int>& n) {
+    const int e = curve.knots().num_elements();
+    return beam_size(refined_control_points(e, p, c, n[0]), n[0] + e, p, p + 1);
+  };
+  apply_refinement(refine, 1, others, size, [&](int, int p, int c, int n) { curve.refine(p, c, n); });
+  check_curve_metric(curve, g);
   return curve;
 }
 

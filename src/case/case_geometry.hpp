@@ -1,12 +1,28 @@
 #pragma once
 // Geometry blocks of a case file: shell surfaces and beam axes, explicit or generated, then refined.
+#include "case/case_limits.hpp"
 #include "io/yaml_input.hpp"
 #include "spline/curve.hpp"
 #include "spline/surface.hpp"
 
 namespace fibrane::casefile {
 
-spline::NurbsSurface read_surface(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine);
-spline::NurbsCurve read_curve(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine);
+// A shell's surface and a beam's axis from their geometry and refine blocks. `others` is the size of the
+// bodies read before: a refinement whose model would not fit into memory is refused before it is made.
+// The result is checked with check_surface_metric / check_curve_metric.
+spline::NurbsSurface read_surface(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine,
+                                  const ModelSize& others);
+spline::NurbsCurve read_curve(const io::YamlNode& geometry, const std::optional<io::YamlNode>& refine,
+                              const ModelSize& others);
+
+// InputError at `geometry` where the surface's reference metric is singular: an edge collapsed to a point
+// (a pole), or an area Jacobian ~0 relative to the patch size at a quadrature point of an element.
+void check_surface_metric(const spline::NurbsSurface& surface, const io::YamlNode& geometry);
+// InputError at `geometry` where the axis has zero speed at a quadrature point.
+void check_curve_metric(const spline::NurbsCurve& curve, const io::YamlNode& geometry);
+// Length of the axis (Gauss quadrature of its speed).
+double curve_length(const spline::NurbsCurve& curve);
+// InputError at `node` where the (non-zero) director is parallel to the axis at a quadrature point.
+void check_director(const spline::NurbsCurve& curve, const Eigen::Vector3d& director, const io::YamlNode& node);
 
 }  // namespace fibrane::casefile

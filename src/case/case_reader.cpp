@@ -1,15 +1,23 @@
 #include "case/case_reader.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
+#include <numbers>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "io/yaml_parameters.hpp"
 #include "shell/material.hpp"
 
+#include "case/case_checks.hpp"
 #include "case/case_conditions.hpp"
 #include "case/case_geometry.hpp"
 #include "case/case_laws.hpp"
+#include "case/case_limits.hpp"
+#include "case/case_output.hpp"
 #include "case/case_steps.hpp"
 #include "model/observables.hpp"
 
@@ -53,9 +61,22 @@ void read_functions(Model& m, const io::YamlNode& node) {
   }
 }
 
+// The geometry of a body: `read` builds it; a spline error the reader's own checks did not catch is
+// reported at the geometry block.
+template <class Read>
+auto read_geometry(const io::YamlNode& node, Read&& read) {
+  try {
+    return read(node["geometry"], node.optional("refine"));
+  } catch (const std::invalid_argument& e) {
+    node["geometry"].fail_message(std::string("invalid geometry: ") + e.what());
+  }
+}
+
 void read_shell(Model& m, const io::YamlNode& node) {
-  const std::string name = node["name"].as_string();
-  auto surface = read_surface(node["geometry"], node.optional("refine"));
+  const std::string name = read_safe_name(node["name"]);
+  auto surface = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
+    return read_surface(g, r, model_size(m));
+  });
   shell::ShellSection section;
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
@@ -65,13 +86,13 @@ void read_shell(Model& m, const io::YamlNode& node) {
   // The density belongs to the body (its inertia), not to the constitutive model.
   const double density = mat.has("density") ? mat["density"].positive() : 0.0;
   section.material = materials.make(model, io::YamlParameters(mat, {"model", "density"}));
+  const int degree = std::max(surface.degree(0), surface.degree(1));
   ShellBody body(name, std::move(surface), section);
   body.density = density;
-  if (auto g = node.optional("gauss_points")) {
-    body.gauss_points[0] = body.gauss_points[1] = g->positive_int();
-  }
+  if (auto g = node.optional("gauss_points")) body.gauss_points[0] = body.gauss_points[1] = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
   m.add_shell(std::move(body));
+  check_fits(model_size(m), node["geometry"]);
 }
 
 beam::BeamSection read_section(const io::YamlNode& node, double young, double poisson, double& radius) {
@@ -88,9 +109,20 @@ beam::BeamSection read_section(const io::YamlNode& node, double young, double po
   return beam::BeamSection::general(young, poisson, area, i2, i3, it);
 }
 
+// A beam is a slender body: a section radius above the axis length is no beam.
+void check_slender(const io::YamlNode& section, double radius, double length) {
+  if (radius <= length) return;
+  const auto at = section.has("circle") ? section["circle"]["radius"] : section["area"];
+  at.fail_message(fmt::format("the section (radius {}) is larger than the beam's length {}: a beam model needs a "
+                              "slender body",
+                              format_number(radius), format_number(length)));
+}
+
 void read_beam(Model& m, const io::YamlNode& node) {
-  const std::string name = node["name"].as_string();
-  auto curve = read_curve(node["geometry"], node.optional("refine"));
+  const std::string name = read_safe_name(node["name"]);
+  auto curve = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
+    return read_curve(g, r, model_size(m));
+  });
   const auto mat = node["material"];
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);
@@ -98,18 +130,28 @@ void read_beam(Model& m, const io::YamlNode& node) {
   mat.reject_unknown_keys();
   double radius = 0.0;
   const auto section = read_section(node["section"], young, poisson, radius);
+  check_slender(node["section"], radius > 0 ? radius : std::sqrt(section.area / std::numbers::pi), curve_length(curve));
   Eigen::Vector3d director = Eigen::Vector3d::Zero();
   if (auto d = node.optional("director")) {
     director = d->as_vector3();
     if (director.norm() == 0.0) d->fail("a non-zero vector");
+    check_director(curve, director, *d);
   }
-  BeamBody body(name, std::move(curve), section, director);
+  const int degree = curve.degree();
+  auto body = [&] {
+    try {
+      return BeamBody(name, std::move(curve), section, director);
+    } catch (const InputError& e) {
+      node["geometry"].fail_message(e.what());
+    }
+  }();
   body.section_radius = radius;
   body.density = density;
   if (auto share = node.optional("symmetry_share")) body.share = share->in_range(0.0, 1.0, true, false);
-  if (auto g = node.optional("gauss_points")) body.gauss_points = g->positive_int();
+  if (auto g = node.optional("gauss_points")) body.gauss_points = read_gauss_points(*g, degree);
   node.reject_unknown_keys();
   m.add_beam(std::move(body));
+  check_fits(model_size(m), node["geometry"]);
 }
 
 void read_interaction(Model& m, const io::YamlNode& node) {
@@ -125,7 +167,7 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   if (b->section_radius <= 0.0)
     beam_node.fail_message("beam '" + b->name() + "' needs a circular section (section: {circle: {radius: R}}): the "
                            "disk-plate law integrates over a disk");
-  const std::string name = node.get("name", b->name() + "_" + shell->name());
+  const std::string name = node.has("name") ? read_safe_name(node["name"]) : b->name() + "_" + shell->name();
   const std::string f = node.get("formulation", std::string("RF2"));
   if (auto fn = node.optional("formulation")) fn->as_choice({"FF", "RF1", "RF2"});
   const auto formulation = f == "FF" ? interaction::Formulation::FF
@@ -154,15 +196,6 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   if (soft_width > 0) m.couplings.back().enable_soft_minimum(soft_width, soft_below);
 }
 
-void check_unique_names(const Model& m, const io::YamlNode& root) {
-  std::vector<std::string> names;
-  for (const auto& s : m.shells) names.push_back(s.name());
-  for (const auto& b : m.beams) names.push_back(b.name());
-  for (std::size_t i = 0; i < names.size(); ++i)
-    for (std::size_t j = i + 1; j < names.size(); ++j)
-      if (names[i] == names[j]) root.fail_message("two bodies are named '" + names[i] + "'");
-}
-
 template <class F>
 void for_each_entry(const std::optional<io::YamlNode>& list, F&& f) {
   if (!list) return;
@@ -170,19 +203,26 @@ void for_each_entry(const std::optional<io::YamlNode>& list, F&& f) {
   for (std::size_t i = 0; i < list->size(); ++i) f(list->at(i));
 }
 
-void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, const std::string& name) {
-  out.directory = "out/" + name;
-  if (!node) return;
-  out.directory = node->get("directory", out.directory);
-  out.vtk = node->get("vtk", out.vtk);
-  out.vtk_every = node->has("vtk_every") ? (*node)["vtk_every"].positive_int() : out.vtk_every;
-  out.samples = node->has("samples") ? (*node)["samples"].positive_int() : out.samples;
-  if (auto cells = node->optional("vtk_cells")) {
-    const std::string which = cells->as_choice({"bezier", "sampled", "both"});
-    out.bezier = which != "sampled";
-    out.sampled = which != "bezier";
+// Checks steps.stop.column against the quantities the run reports.
+void check_stop_column(const RunSettings& run, const Model& m, const io::YamlNode& root) {
+  if (run.stop_column.empty()) return;
+  std::string known;
+  for (const auto& o : model::observables(m)) {
+    if (o.name == run.stop_column) return;
+    known += (known.empty() ? "" : ", ") + o.name;
   }
-  node->reject_unknown_keys();
+  root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
+}
+
+// Reads the constraints, recording which entry added which of the model's constraints.
+ConstraintOrigins read_constraints(Model& m, const io::YamlNode& root) {
+  ConstraintOrigins origins;
+  for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) {
+    origins.first.push_back(static_cast<std::size_t>(m.constraints.num_added()));
+    origins.entries.push_back(n);
+    read_constraint(m, n);
+  });
+  return origins;
 }
 
 }  // namespace
@@ -200,21 +240,15 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
   for_each_entry(root.optional("shells"), [&](const io::YamlNode& n) { read_shell(m, n); });
   for_each_entry(root.optional("beams"), [&](const io::YamlNode& n) { read_beam(m, n); });
   if (m.shells.empty() && m.beams.empty()) root.fail_message("the case defines no body: add 'shells' or 'beams'");
-  check_unique_names(m, root);
-  for_each_entry(root.optional("constraints"), [&](const io::YamlNode& n) { read_constraint(m, n); });
+  check_output_names(m, root);
+  const ConstraintOrigins origins = read_constraints(m, root);
   for_each_entry(root.optional("loads"), [&](const io::YamlNode& n) { read_load(m, n); });
   for_each_entry(root.optional("interactions"), [&](const io::YamlNode& n) { read_interaction(m, n); });
+  check_output_names(m, root);
   for_each_entry(root.optional("monitors"), [&](const io::YamlNode& n) { read_monitor(m, n); });
+  check_monitor_names(m, root);
   read_steps(c.run, root.optional("steps"));
-  if (!c.run.stop_column.empty()) {
-    std::string known;
-    bool found = false;
-    for (const auto& o : model::observables(m)) {
-      known += (known.empty() ? "" : ", ") + o.name;
-      found |= o.name == c.run.stop_column;
-    }
-    if (!found) root["steps"]["stop"]["column"].fail("a reported quantity (" + known + ")");
-  }
+  check_stop_column(c.run, m, root);
   if (c.run.method == Method::dynamics) {
     m.inertia = true;
     for (const auto& s : m.shells)
@@ -229,9 +263,12 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
   m.set_distribution(distribution);
   try {
     m.finalize();
+  } catch (const solve::ConstraintError& e) {
+    throw explain_constraint_error(e, m, origins, path);
   } catch (const InputError& e) {
     throw InputError(path + ": constraints: " + e.what());
   }
+  if (c.run.method != Method::dynamics) check_free_bodies(m, root);  // inertia holds a free body in time
   return c;
 }
 

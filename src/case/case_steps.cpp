@@ -1,9 +1,28 @@
 #include "case/case_steps.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 
 namespace fibrane::casefile {
 namespace {
+
+// An optional integer key in [lo, hi]; `fallback` when absent.
+int int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {
+  const auto v = map.optional(key);
+  if (!v) return fallback;
+  const int x = v->as_int();
+  if (x < lo || x > hi) v->fail(fmt::format("{}, an integer in [{}, {}]", what, lo, hi));
+  return x;
+}
+
+// An optional number key in the range given by lo, hi and whether each end is open; `fallback` when absent.
+double number_in(const io::YamlNode& map, const std::string& key, double lo, double hi, bool lo_open, bool hi_open,
+                 double fallback) {
+  const auto v = map.optional(key);
+  return v ? v->in_range(lo, hi, lo_open, hi_open) : fallback;
+}
 
 // steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
 // max_path_length, direction}.
@@ -14,7 +33,8 @@ void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNod
   a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
   if (a.ds_min > a.ds_initial) (*node)["ds_min"].fail("ds_min <= ds");
   if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
-  if (auto v = node->optional("desired_iterations")) a.desired_iterations = v->positive_int();
+  a.desired_iterations = int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
+                                "the Newton iterations a step aims at");
   if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
   if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
   if (auto v = node->optional("scale")) {  // auto, cylindrical, or a positive number
@@ -53,36 +73,33 @@ void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>
 }
 
 void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
-  if (auto v = node.optional("max_iterations")) newton.max_iterations = v->positive_int();
-  if (auto v = node.optional("tolerance")) newton.tol_relative = v->positive();
-  if (auto v = node.optional("tolerance_absolute")) newton.tol_absolute = v->non_negative();
-  if (auto v = node.optional("tolerance_increment")) newton.tol_increment = v->non_negative();
-  if (node.has("line_search")) {
-    newton.line_search = node["line_search"].as_int();
-    if (newton.line_search < 0 || newton.line_search > 30)
-      node["line_search"].fail("the most halvings of a Newton update, an integer in [0, 30] (0: none)");
-  }
-  if (node.has("reuse_factorization")) newton.reuse_below = node["reuse_factorization"].in_range(0.0, 1.0, false, true);
+  newton.max_iterations = int_in(node, "max_iterations", 1, 1000, newton.max_iterations,
+                                 "the most Newton iterations per step");
+  newton.tol_relative = number_in(node, "tolerance", 0.0, 1.0, true, true, newton.tol_relative);
+  newton.tol_absolute = number_in(node, "tolerance_absolute", 0.0, INFINITY, false, true, newton.tol_absolute);
+  newton.tol_increment = number_in(node, "tolerance_increment", 0.0, 1.0, false, true, newton.tol_increment);
+  newton.line_search = int_in(node, "line_search", 0, 30, newton.line_search,
+                              "the most halvings of a Newton update (0: none)");
+  newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
 }
 
 }  // namespace
 
 void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!node) return;
+  if (!node->is_map()) node->fail("a map of step settings (t_end, dt, ...)");
   auto& s = run.steps;
-  s.t_end = node->get("t_end", s.t_end);
-  if (auto v = node->optional("t_end")) v->positive();
-  s.dt_initial = node->has("dt") ? (*node)["dt"].positive() : s.dt_initial;
+  s.t_end = number_in(*node, "t_end", s.t_start, INFINITY, true, true, s.t_end);
+  s.dt_initial = number_in(*node, "dt", 0.0, INFINITY, true, true, s.dt_initial);
   s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
-  s.dt_min = node->has("dt_min") ? (*node)["dt_min"].positive() : s.dt_min;
+  s.dt_min = number_in(*node, "dt_min", 0.0, INFINITY, true, true, s.dt_min);
   if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
   if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
-  if (auto v = node->optional("easy_iterations")) s.easy_iterations = v->positive_int();
-  s.growth = node->get("growth", s.growth);
-  s.cutback = node->get("cutback", s.cutback);
-  if (!(s.cutback > 0 && s.cutback < 1)) (*node)["cutback"].fail("a factor in (0, 1)");
-  if (!(s.growth >= 1)) (*node)["growth"].fail("a factor >= 1");
-  if (auto v = node->optional("max_steps")) s.max_steps = v->positive_int();
+  s.easy_iterations = int_in(*node, "easy_iterations", 1, 1000, s.easy_iterations,
+                             "the most Newton iterations of a step that lets dt grow");
+  s.growth = number_in(*node, "growth", 1.0, 100.0, false, false, s.growth);
+  s.cutback = number_in(*node, "cutback", 0.0, 1.0, true, true, s.cutback);
+  s.max_steps = int_in(*node, "max_steps", 1, 100'000'000, s.max_steps, "the most steps of the run");
   if (auto method = node->optional("method")) {
     const std::string m = method->as_choice({"load_stepping", "linear", "arc_length", "dynamics"});
     run.method = m == "linear"       ? Method::linear
@@ -115,9 +132,6 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "umfpack"})
                                           : run.linear_solver;
   node->reject_unknown_keys();
-  run.arc_length.t_start = s.t_start;
-  run.arc_length.t_end = s.t_end;
-  run.arc_length.max_steps = s.max_steps;
 }
 
 }  // namespace fibrane::casefile

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "io/csv.hpp"
+#include "io/utf8.hpp"
 
 namespace fibrane::io {
 
@@ -67,7 +68,8 @@ std::vector<std::pair<std::string, JsonValue>> JsonValue::members() const {
 
 std::string json_quote(const std::string& text) {
   std::string out = "\"";
-  for (const char c : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
     switch (c) {
       case '"': out += "\\\""; break;
       case '\\': out += "\\\\"; break;
@@ -77,10 +79,15 @@ std::string json_quote(const std::string& text) {
       case '\b': out += "\\b"; break;
       case '\f': out += "\\f"; break;
       default:
-        if (static_cast<unsigned char>(c) < 0x20) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) {
           out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-        } else {
+        } else if (static_cast<unsigned char>(c) < 0x80) {
           out += c;
+        } else if (const std::size_t n = utf8_length(text, i); n > 0) {
+          out.append(text, i, n);
+          i += n - 1;
+        } else {
+          out += "\\ufffd";  // not UTF-8: the replacement character
         }
     }
   }

@@ -57,7 +57,8 @@ class JsonValue {
   std::vector<JsonValue> values_;   // object member values or array items
 };
 
-// JSON string literal with quotes and escapes (", \, control characters; UTF-8 passes through).
+// JSON string literal with quotes and escapes (", \, control characters); valid UTF-8 passes through,
+// each byte of an invalid sequence becomes \ufffd (the replacement character), so the output is valid JSON.
 std::string json_quote(const std::string& text);
 
 }  // namespace fibrane::io

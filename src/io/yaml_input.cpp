@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "common/error.hpp"
+#include "io/yaml_guard.hpp"
 
 namespace fibrane::io {
 
@@ -118,6 +119,7 @@ YamlNode::YamlNode(std::shared_ptr<Document> doc, YAML::Node node, std::string p
 YamlNode YamlNode::load_string(const std::string& text, const std::string& source_name) {
   auto doc = std::make_shared<Document>();
   doc->file = source_name;
+  check_yaml_text(text, source_name);
   YAML::Node root;
   try {
     root = YAML::Load(text);
@@ -128,13 +130,7 @@ YamlNode YamlNode::load_string(const std::string& text, const std::string& sourc
   return YamlNode(std::move(doc), root, "", line_of(root, 1));
 }
 
-YamlNode YamlNode::load_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the file for reading", path));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return load_string(text.str(), path);
-}
+YamlNode YamlNode::load_file(const std::string& path) { return load_string(read_text_limited(path), path); }
 
 const std::string& YamlNode::file() const { return doc_->file; }
 
@@ -225,7 +221,10 @@ YamlNode YamlNode::at(std::size_t i) const {
 
 double YamlNode::as_double() const {
   if (node_.IsScalar() && !is_quoted(node_)) {
-    if (const auto value = parse_double(node_.Scalar())) return *value;
+    if (const auto value = parse_double(node_.Scalar())) {
+      if (std::abs(*value) > kMaxMagnitude) fail(fmt::format("a number of magnitude at most {:g}", kMaxMagnitude));
+      return *value;
+    }
   }
   fail("a number");
 }

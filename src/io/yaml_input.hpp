@@ -31,7 +31,8 @@ namespace fibrane::io {
 
 class YamlNode {
  public:
-  // Parses the whole file. A missing/unreadable file or a syntax error (with its line) is an InputError.
+  // Parses the whole file. A missing/unreadable file, a syntax error (with its line) and text that
+  // io/yaml_guard.hpp refuses (size, encoding, anchors, aliases, tags, several documents) are InputErrors.
   static YamlNode load_file(const std::string& path);
   // Same, from text already in memory; `source_name` stands in for the file name in messages.
   static YamlNode load_string(const std::string& text, const std::string& source_name);
@@ -57,7 +58,10 @@ class YamlNode {
   YamlNode at(std::size_t i) const;
 
   // Scalars.
-  double as_double() const;  // finite number
+  // Finite number of magnitude at most kMaxMagnitude: larger values overflow products of a few of them
+  // (stiffness, loads) to infinity.
+  double as_double() const;
+  static constexpr double kMaxMagnitude = 1e100;
   int as_int() const;
   bool as_bool() const;
   std::string as_string() const;

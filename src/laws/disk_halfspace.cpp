@@ -7,6 +7,7 @@
 #include <string>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 
 namespace fibrane::laws {
 namespace {
@@ -86,7 +87,7 @@ DistanceSquaredCosJet assemble(double n, double prefactor, double radius, double
 void require_positive_gap(double radius, double d, double c) {
   if (!(d - c * radius > 0.0))
     throw std::domain_error("disk-half-space law: the disk touches or penetrates the surface (d = " +
-                            std::to_string(d) + ", c R = " + std::to_string(c * radius) + ")");
+                            format_number(d) + ", c R = " + format_number(c * radius) + ")");
 }
 
 // I_lambda(N) = int_0^pi sin^(2 lambda) t (1 + k cos t)^-N dt for lambda = 1, 2, 3 at once. The

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
+#include "common/format.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
@@ -23,7 +24,7 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
   const auto unique = kv.unique_knots();
   for (std::size_t k = 1; k + 1 < unique.size(); ++k)
     if (kv.multiplicity(unique[k]) >= p)
-      throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + std::to_string(unique[k]) +
+      throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + format_number(unique[k]) +
                        " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
                        std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of at most 90 degrees "
                        "or a NURBS axis without C0 knots (one rational quadratic piece spans arcs below 180)");
@@ -86,8 +87,10 @@ Eigen::Vector3d BeamBody::reference_director(double xi) const {
 
 int BeamBody::element_of(double xi) const {
   const int span = curve.knots().find_span(xi);
-  for (std::size_t e = 0; e < elements.size(); ++e)
-    if (elements[e].span == span) return static_cast<int>(e);
+  // Elements are in increasing span order.
+  const auto it = std::lower_bound(elements.begin(), elements.end(), span,
+                                   [](const BeamElement& e, int s) { return e.span < s; });
+  if (it != elements.end() && it->span == span) return static_cast<int>(it - elements.begin());
   return static_cast<int>(elements.size()) - 1;
 }
 

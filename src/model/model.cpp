@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace fibrane::model {
@@ -103,6 +104,17 @@ void Model::finalize() {
   owned_.clear();
   share(element_dofs, 0);
   assembler_.set_pattern(constraints, element_dofs);
+  reference_magnitude_.assign(static_cast<std::size_t>(dofs.size()), 0.0);
+  for (const auto& s : shells)
+    for (int a = 0; a < s.num_control_points(); ++a)
+      for (int c = 0; c < 3; ++c)
+        reference_magnitude_[static_cast<std::size_t>(dofs.dof(s.block, a, c))] = std::abs(s.surface.control_points()[a][c]);
+  for (const auto& b : beams)
+    for (int a = 0; a < b.num_control_points(); ++a) {
+      for (int c = 0; c < 3; ++c)
+        reference_magnitude_[static_cast<std::size_t>(dofs.dof(b.block, a, c))] = std::abs(b.curve.control_points()[a][c]);
+      reference_magnitude_[static_cast<std::size_t>(dofs.dof(b.block, a, 3))] = 1.0;
+    }
   constrained_dofs_ = constraints.constrained_dofs();
   u_ = constraints.expand(initial_unknowns(), 0.0, curve_eval());
   for (auto& e : entries_)
@@ -210,7 +222,22 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   double reaction_sq = 0.0;
   for (int d : constrained_dofs_) reaction_sq += full_residual()[d] * full_residual()[d];
   load_scale_ = std::sqrt(std::max(nodal_loads.squared_norm(s), reaction_sq));
+  if (with_tangent) roundoff_floor_ = estimate_roundoff_floor();
   lap(times_.other);
+}
+
+double Model::estimate_roundoff_floor() const {
+  const auto& k = tangent();
+  double sum = 0.0;
+  for (int j = 0; j < k.outerSize(); ++j) {
+    const auto d = static_cast<std::size_t>(constraints.free_dof(j));
+    const double x = reference_magnitude_[d] + std::abs(u_[static_cast<Eigen::Index>(d)]);
+    double column = 0.0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) column += it.value() * it.value();
+    sum += column * x * x;
+  }
+  if (distribution_) distribution_->sum({&sum, 1});
+  return std::numeric_limits<double>::epsilon() * std::sqrt(sum);
 }
 
 void Model::reject() {

@@ -88,6 +88,7 @@ class Model : public solve::TransientSystem {
   void reject() override;
   std::string failure_hint() const override;
   double residual_scale() const override { return load_scale_; }
+  double roundoff_floor() const override { return roundoff_floor_; }
   bool symmetric() const override;
 
   // TransientSystem (needs `inertia`): the time step the next evaluations belong to, the prescribed
@@ -126,6 +127,10 @@ class Model : public solve::TransientSystem {
   void share(std::vector<std::vector<int>>& element_dofs, int first);
   // Distributed, after the assembly: energies, status and external forces over the processes.
   void agree(bool with_tangent);
+  // eps * sqrt(sum_ij (K_ij x_j)^2) of the current tangent, x_j = |reference coordinate| + |u_j| (twists:
+  // max(1, |u_j|)): the residual that rounding the configuration alone causes.
+  // Distributed: the sum over the processes of their summands' column sums (the same value everywhere).
+  double estimate_roundoff_floor() const;
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
   std::vector<std::unique_ptr<Contribution>> extra_;
@@ -135,7 +140,8 @@ class Model : public solve::TransientSystem {
   std::unique_ptr<Inertia> inertia_;
   Eigen::SparseMatrix<double> mass_;
   const Eigen::VectorXd* reactions_ = nullptr;
-  double t_ = 0.0, load_scale_ = 0.0;
+  std::vector<double> reference_magnitude_;  // per DOF: |reference coordinate|, 1 for a twist
+  double t_ = 0.0, load_scale_ = 0.0, roundoff_floor_ = 0.0;
   double energies_[4] = {0, 0, 0, 0};
   Status status_;
   bool finalized_ = false;

@@ -20,8 +20,31 @@ std::array<double, 3> lagrange(const double x[3], double at) {
 
 }  // namespace
 
+bool LimitPointFinder::hermite_extremum(const Row& a, const Row& b, double& s, double& t) {
+  if (!std::isfinite(a.dt_ds) || !std::isfinite(b.dt_ds) || !(a.dt_ds * b.dt_ds < 0)) return false;
+  // t(x) on x in [0, 1], h = b.s - a.s: Hermite basis with slopes h m_a, h m_b. t'(x) is quadratic:
+  //   t'(x) = 6 (x - x^2)(t_b - t_a) + (1 - 4x + 3x^2) h m_a + (3x^2 - 2x) h m_b.
+  const double h = b.s - a.s, ma = h * a.dt_ds, mb = h * b.dt_ds, d = b.t - a.t;
+  const double c2 = -6 * d + 3 * ma + 3 * mb, c1 = 6 * d - 4 * ma - 2 * mb, c0 = ma;
+  double x = -1;
+  if (std::abs(c2) < 1e-14 * (std::abs(c1) + std::abs(c0))) {
+    x = -c0 / c1;
+  } else {
+    const double disc = c1 * c1 - 4 * c2 * c0;
+    if (disc < 0) return false;
+    for (double root : {(-c1 + std::sqrt(disc)) / (2 * c2), (-c1 - std::sqrt(disc)) / (2 * c2)})
+      if (root >= 0 && root <= 1) x = root;
+  }
+  if (!(x >= 0 && x <= 1)) return false;
+  const double h00 = 2 * x * x * x - 3 * x * x + 1, h10 = x * x * x - 2 * x * x + x, h01 = -2 * x * x * x + 3 * x * x,
+               h11 = x * x * x - x * x;
+  s = a.s + x * h;
+  t = h00 * a.t + h10 * ma + h01 * b.t + h11 * mb;
+  return true;
+}
+
 bool LimitPointFinder::add(const solve::StepReport& r, const model::Model& m) {
-  Row row{r.path_length, r.t, {}};
+  Row row{r.path_length, r.t, r.dt_ds, {}};
   for (const auto& o : observables_) row.values.push_back(o.value(m));
   rows_.push_back(std::move(row));
   if (rows_.size() > 3) rows_.erase(rows_.begin());
@@ -35,12 +58,16 @@ bool LimitPointFinder::add(const solve::StepReport& r, const model::Model& m) {
   const double b = d01 - a * (s[0] + s[1]);
   double vertex = -b / (2 * a);
   vertex = std::clamp(vertex, s[0], s[2]);
-  const auto w = lagrange(s, vertex);
   LimitPoint p;
   p.step = r.step;
-  p.path_length = vertex;
   p.maximum = a < 0;
-  p.t = w[0] * rows_[0].t + w[1] * rows_[1].t + w[2] * rows_[2].t;
+  double hermite_s = 0, hermite_t = 0;
+  const bool hermite =
+      hermite_extremum(rows_[1], rows_[2], hermite_s, hermite_t) || hermite_extremum(rows_[0], rows_[1], hermite_s, hermite_t);
+  if (hermite) vertex = hermite_s;
+  const auto w = lagrange(s, vertex);
+  p.path_length = vertex;
+  p.t = hermite ? hermite_t : w[0] * rows_[0].t + w[1] * rows_[1].t + w[2] * rows_[2].t;
   for (std::size_t k = 0; k < observables_.size(); ++k)
     p.values.emplace_back(observables_[k].name,
                           w[0] * rows_[0].values[k] + w[1] * rows_[1].values[k] + w[2] * rows_[2].values[k]);

@@ -1,8 +1,9 @@
 #pragma once
 // Limit points of the load parameter on an arc-length path: where t passes an extremum (StepReport::
-// limit_point), the extremum is located between the steps by the parabola t(s) through the last three
-// converged points (s: path length), and the model's observables are interpolated there the same way.
-// For a smooth path the error is O(ds^3) in t and O(ds^2) in the location.
+// limit_point), the extremum is located between the steps, s being the path length. Where the method
+// reports the path's slope dt/ds at the points, by the cubic Hermite interpolant of t(s) on the interval
+// where dt/ds changes sign (error O(ds^4) in t); otherwise by the parabola through the last three points
+// (O(ds^3)). The model's observables are interpolated at the extremum by that parabola (O(ds^3)).
 #include <string>
 #include <vector>
 
@@ -29,9 +30,11 @@ class LimitPointFinder {
 
  private:
   struct Row {
-    double s, t;
+    double s, t, dt_ds;
     std::vector<double> values;
   };
+  // The extremum of t(s) on [a, b] from the Hermite cubic, if the slopes change sign there.
+  static bool hermite_extremum(const Row& a, const Row& b, double& s, double& t);
   std::vector<model::Observable> observables_;
   std::vector<Row> rows_;  // the last three points
   std::vector<LimitPoint> found_;

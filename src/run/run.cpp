@@ -13,25 +13,33 @@
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
 #include "run/limit_points.hpp"
+#include "run/run_checks.hpp"
 #include "solve/arc_length.hpp"
 #include "solve/linear_solver.hpp"
 #include "solve/linear_step.hpp"
 #include "solve/load_stepping.hpp"
 
 namespace fibrane::run {
-namespace {
 
 std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& s, bool verbose) {
   solve::NewtonOptions newton = s.newton;
   newton.verbose = verbose;
   switch (s.method) {
     case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
-    case casefile::Method::arc_length: return std::make_unique<solve::ArcLength>(s.arc_length, newton);
+    case casefile::Method::arc_length: {
+      solve::ArcLengthControl control = s.arc_length;  // the run's range and step budget are those of `steps`
+      control.t_start = s.steps.t_start;
+      control.t_end = s.steps.t_end;
+      control.max_steps = s.steps.max_steps;
+      return std::make_unique<solve::ArcLength>(control, newton);
+    }
     case casefile::Method::dynamics: return std::make_unique<solve::GeneralizedAlpha>(s.steps, newton, s.dynamics);
     case casefile::Method::load_stepping: break;
   }
   return std::make_unique<solve::LoadStepping>(s.steps, newton);
 }
+
+namespace {
 
 // The case's stop rule: |quantity| below a fraction of its largest magnitude so far (e.g. the adhesion
 // energy at pull-off). The quantity is read from the model, like the history column of the same name.
@@ -66,6 +74,8 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   model::Model& m = *c.model;
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
+  check_output_directory(c, summary.directory);
+  check_finite_model(c);
   // A distributed run's processes hold the same state: the first one writes.
   const bool writes = !m.distribution() || m.distribution()->rank() == 0;
   std::unique_ptr<output::RunOutput> out = writes ? std::make_unique<output::RunOutput>(c, summary.directory) : nullptr;

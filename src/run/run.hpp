@@ -30,4 +30,8 @@ struct RunSummary {
 // writes the output files and the progress line, the others only compute (their state is the same).
 RunSummary run_case(casefile::Case& c, const RunOptions& options);
 
+// The continuation method the case's `steps` block chose, with its controls (verbose: a line per Newton
+// iteration on stderr).
+std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& settings, bool verbose);
+
 }  // namespace fibrane::run

@@ -366,6 +366,12 @@ StepReport ArcLength::advance(NonlinearSystem& sys, Eigen::VectorXd& q, const At
   report.history = at.history;
   report.negative_eigenvalues = have_tangent ? tangent.negative_eigenvalues : -1;
   report.path_length = path_length_;
+  if (have_tangent) {  // the tangent oriented like the step that arrived here (the angle rule)
+    const double c2 = c_ * c_;
+    const double norm = std::sqrt(tangent.dq.squaredNorm() + c2 * tangent.dt * tangent.dt);
+    const double along = tangent.dq.dot(dq_prev_) + c2 * tangent.dt * dt_prev_;
+    if (norm > 0) report.dt_ds = (along >= 0 ? 1.0 : -1.0) * tangent.dt / norm;
+  }
   if (newton_.verbose)
     std::fprintf(stderr, "arc-length step %d: t=%.6g dt=%.3g ds=%.3g iterations=%d%s\n", steps_, t_, report.dt, ds,
                  at.iterations, report.limit_point ? " (limit point)" : "");

@@ -86,18 +86,20 @@ void ConstraintSet::finalize(int n_dofs) {
   n_dofs_ = n_dofs;
   slave_of_.assign(static_cast<size_t>(n_dofs), -1);
   std::vector<int> deferred;  // raw constraints on an already-constrained DOF, checked after resolution
-  auto check_range = [&](int dof, int slave) {
+  auto check_range = [&](int dof, int slave, size_t i) {
     if (dof < 0 || dof >= n_dofs)
-      throw InputError("constraint on DOF " + std::to_string(slave) + " refers to DOF " +
-                       std::to_string(dof) + ", outside [0, " + std::to_string(n_dofs) + ")");
+      throw ConstraintError("constraint on DOF " + std::to_string(slave) + " refers to DOF " + std::to_string(dof) +
+                                ", outside [0, " + std::to_string(n_dofs) + ")",
+                            {slave}, {i});
   };
   for (size_t i = 0; i < raw_.size(); ++i) {
     const LinearConstraint& c = raw_[i];
-    check_range(c.slave, c.slave);
+    check_range(c.slave, c.slave, i);
     for (const auto& [m, coef] : c.masters) {
-      check_range(m, c.slave);
+      check_range(m, c.slave, i);
       if (m == c.slave)
-        throw InputError("constraint on DOF " + std::to_string(c.slave) + " refers to itself (cycle)");
+        throw ConstraintError("constraint on DOF " + std::to_string(c.slave) + " refers to itself (cycle)",
+                              {c.slave}, {i});
     }
     int& owner = slave_of_[static_cast<size_t>(c.slave)];
     if (owner >= 0) {
@@ -125,7 +127,7 @@ void ConstraintSet::finalize(int n_dofs) {
     if (slave_of_[static_cast<size_t>(d)] >= 0 && state[static_cast<size_t>(d)] == 0)
       resolve(d, state, path);
 
-  for (int i : deferred) check_agrees(raw_[static_cast<size_t>(i)]);
+  for (int i : deferred) check_agrees(static_cast<size_t>(i));
 
   dof_to_free_.assign(static_cast<size_t>(n_dofs), -1);
   free_to_dof_.clear();
@@ -157,7 +159,8 @@ void ConstraintSet::substitute(int master, double coef, Resolved& out) const {
   for (const auto& [curve, amp] : sub.terms) out.terms.emplace_back(curve, coef * amp);
 }
 
-void ConstraintSet::check_agrees(const LinearConstraint& c) const {
+void ConstraintSet::check_agrees(size_t index) const {
+  const LinearConstraint& c = raw_[index];
   Resolved r;
   r.terms = prescribed_of(c);
   for (const auto& [m, coef] : c.masters) substitute(m, coef, r);
@@ -165,8 +168,9 @@ void ConstraintSet::check_agrees(const LinearConstraint& c) const {
   normalize(r.terms);
   const Resolved& kept = resolved_[static_cast<size_t>(c.slave)];
   if (!same_terms(kept.masters, r.masters) || !same_terms(kept.terms, r.terms))
-    throw InputError("conflicting constraints on DOF " + std::to_string(c.slave) +
-                     " (it is constrained twice, and the two constraints disagree)");
+    throw ConstraintError("conflicting constraints on DOF " + std::to_string(c.slave) +
+                              " (it is constrained twice, and the two constraints disagree)",
+                          {c.slave}, {static_cast<size_t>(slave_of_[static_cast<size_t>(c.slave)]), index});
 }
 
 void ConstraintSet::resolve(int dof, std::vector<int>& state, std::vector<int>& path) {
@@ -178,9 +182,15 @@ void ConstraintSet::resolve(int dof, std::vector<int>& state, std::vector<int>& 
   for (const auto& [m, coef] : c.masters) {
     if (slave_of_[static_cast<size_t>(m)] >= 0 && state[static_cast<size_t>(m)] == 1) {
       std::string cycle;
+      std::vector<int> dofs;
+      std::vector<size_t> involved;
       auto start = std::find(path.begin(), path.end(), m);
-      for (auto it = start; it != path.end(); ++it) cycle += std::to_string(*it) + " -> ";
-      throw InputError("cyclic constraints: DOF " + cycle + std::to_string(m));
+      for (auto it = start; it != path.end(); ++it) {
+        cycle += std::to_string(*it) + " -> ";
+        dofs.push_back(*it);
+        involved.push_back(static_cast<size_t>(slave_of_[static_cast<size_t>(*it)]));
+      }
+      throw ConstraintError("cyclic constraints: DOF " + cycle + std::to_string(m), dofs, involved);
     }
     if (slave_of_[static_cast<size_t>(m)] >= 0 && state[static_cast<size_t>(m)] == 0) resolve(m, state, path);
     substitute(m, coef, out);

@@ -13,7 +13,20 @@
 
 #include <Eigen/Dense>
 
+#include "common/error.hpp"
+
 namespace fibrane::solve {
+
+// A constraint set that cannot be resolved (conflict, cycle, DOF out of range). `dofs` are the DOFs it is
+// about, `constraints` the indices (in the order added) of the constraints involved, so that a reader can
+// name them in its own terms (bodies, control points, lines of a case file).
+class ConstraintError : public InputError {
+ public:
+  ConstraintError(const std::string& message, std::vector<int> dofs, std::vector<std::size_t> constraints)
+      : InputError(message), dofs(std::move(dofs)), constraints(std::move(constraints)) {}
+  std::vector<int> dofs;
+  std::vector<std::size_t> constraints;
+};
 
 // Load curve evaluator: curve id and quasi-time -> factor. Curve id < 0 means "constant 1".
 using CurveEval = std::function<double(int curve, double t)>;
@@ -31,7 +44,7 @@ class ConstraintSet {
   void fix(int dof, double value = 0.0, int curve = -1);
 
   // Resolves chains (a master that is itself a slave is substituted), rejects conflicting duplicate
-  // constraints on one slave and cycles (throws fibrane::InputError naming the DOFs) and numbers the
+  // constraints on one slave and cycles (throws ConstraintError naming the DOFs) and numbers the
   // free DOFs in increasing DOF order. Identical duplicates are allowed (a corner fixed by two edges).
   // May be called again after further add()/fix() calls.
   void finalize(int n_dofs);
@@ -71,7 +84,7 @@ class ConstraintSet {
   void check_ready(int dof) const;
   // Appends coef * (master, or master's resolved expansion if it is a slave already resolved) to out.
   void substitute(int master, double coef, Resolved& out) const;
-  void check_agrees(const LinearConstraint& c) const;
+  void check_agrees(std::size_t index) const;
   void resolve(int dof, std::vector<int>& state, std::vector<int>& path);
 
   std::vector<LinearConstraint> raw_;

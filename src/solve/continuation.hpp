@@ -4,6 +4,7 @@
 // method is one class behind ContinuationMethod; the run driver picks one by name from the case file
 // (steps.method) and knows nothing of its inner workings.
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -40,6 +41,8 @@ struct StepReport {
   int negative_eigenvalues = -1;
   bool limit_point = false;       // the load parameter passed an extremum within this step
   double path_length = 0;         // arc-length methods: the path's length from the start to this point
+  // Arc-length methods: dt/ds of the path's tangent at this point, oriented along the path (NaN: unknown).
+  double dt_ds = std::numeric_limits<double>::quiet_NaN();
   std::optional<EnergyReport> energy{};  // time-integration methods only
 };
 

@@ -58,4 +58,20 @@ void set_thread_count(int n);
 // OpenBLAS's current thread count (openblas_get_num_threads), or -1 if the BLAS is not OpenBLAS.
 int blas_thread_count();
 
+// For its lifetime, one BLAS thread if a factorisation is small (`factor_nonzeros` below
+// kSmallFactorEntries): its dense blocks are too small to share, and on a busy 2-core machine a second BLAS
+// thread made the peeling example's factorisation (2.0 M factor entries) several times slower. Larger
+// factorisations keep the configured count.
+class BlasThreadsForFactor {
+ public:
+  static constexpr long kSmallFactorEntries = 10'000'000;
+  explicit BlasThreadsForFactor(long factor_nonzeros);
+  ~BlasThreadsForFactor();
+  BlasThreadsForFactor(const BlasThreadsForFactor&) = delete;
+  BlasThreadsForFactor& operator=(const BlasThreadsForFactor&) = delete;
+
+ private:
+  int restore_ = -1;
+};
+
 }  // namespace fibrane::solve

@@ -128,6 +128,7 @@ bool MumpsSolver::factorize(const SpMat& a) {
   if (!analyzed_ || a.rows() != n_ || a.nonZeros() != matrix_nonzeros_) analyze(a);
   factored_ = false;
   if (!analyzed_) return false;
+  const BlasThreadsForFactor threads(factor_nonzeros());
   const double* v = a.valuePtr();
   for (size_t k = 0; k < positions_.size(); ++k) values_[k] = v[positions_[k]];
   id_.a = values_.data();
@@ -146,6 +147,7 @@ bool MumpsSolver::factorize(const SpMat& a) {
 
 Eigen::VectorXd MumpsSolver::solve(const Eigen::VectorXd& b) const {
   if (!factored_ || b.size() != n_) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+  const BlasThreadsForFactor threads(factor_nonzeros());
   rhs_.assign(b.data(), b.data() + b.size());
   id_.rhs = rhs_.data();
   id_.nrhs = 1;

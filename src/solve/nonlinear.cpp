@@ -35,7 +35,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
                           LinearSolver& solver) {
   if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
   NewtonReport rep;
-  double scale = 0.0, previous_norm = 0.0;
+  double scale = 0.0, previous_norm = 0.0, floor_estimate = 0.0;
   bool small_update = false;
   Eigen::VectorXd last_update;
   double applied = 0.0;  // fraction of last_update in q
@@ -84,8 +84,12 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     // Only where the residual is already small (sqrt(tol_relative) of the scale, 3e-5 at the default): a
     // tiny update from a singular tangent next to a large residual is no floor.
     const bool at_floor = small_update && norm <= 2.0 * previous_norm && norm <= std::sqrt(opt.tol_relative) * scale;
-    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute) || at_floor) {
+    // The floor estimated from the last tangent and the configuration's magnitudes: no iteration can get
+    // below it, so a tolerance under it would be chased through cut-backs until the step size underflows.
+    const bool at_estimated_floor = it > 0 && floor_estimate > 0 && norm <= kRoundoffFloorFactor * floor_estimate;
+    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute) || at_floor || at_estimated_floor) {
       rep.converged = true;
+      rep.at_roundoff_floor = at_estimated_floor && norm > std::max(opt.tol_relative * scale, opt.tol_absolute);
       return rep;
     }
     previous_norm = norm;
@@ -133,6 +137,8 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
         return rep;
       }
       factor_valid = true;
+      floor_estimate = sys.roundoff_floor();
+      if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d round-off floor ~ %.3e\n", t, it, floor_estimate);
       ++rep.factorizations;
       rep.negative_eigenvalues = solver.negative_eigenvalues();
     }

@@ -41,6 +41,11 @@ class NonlinearSystem {
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
   virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
+  // The round-off floor of the residual at the last evaluate() with the tangent: the size of the residual
+  // that rounding the current configuration to double precision alone causes, eps * sqrt(sum_ij
+  // (K_ij x_j)^2) with x_j the magnitude of the coordinate behind unknown j. Newton cannot push |r| below
+  // it; 0 (the default) when the system does not know it.
+  virtual double roundoff_floor() const { return 0.0; }
   // What the system saw in the last failed attempt that may explain it (empty: nothing); appended to the
   // message of a continuation that stops.
   virtual std::string failure_hint() const { return {}; }
@@ -78,9 +83,17 @@ struct NewtonReport {
   std::string failure;         // empty when converged
   // Negative eigenvalues of the last factorised tangent (LinearSolver::negative_eigenvalues), -1 unknown.
   int negative_eigenvalues = -1;
+  // Converged at the system's round-off floor (NonlinearSystem::roundoff_floor) rather than at the tolerance.
+  bool at_roundoff_floor = false;
 };
 
-// Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()).
+// Newton accepts an iterate whose |r| is at most this multiple of the round-off floor: a floor estimate is
+// a statistical size (random rounding errors), and the residual there wanders around it by a small factor.
+inline constexpr double kRoundoffFloorFactor = 2.0;
+
+// Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()),
+// or when ||r|| <= kRoundoffFloorFactor * roundoff_floor() of the last tangent (the tolerance is below what
+// double precision allows for this configuration), or at the increment-based floor of tol_increment.
 // Fails (converged = false, message in failure) on: iteration limit, non-finite residual or update,
 // divergence, failed factorisation. q then holds the last iterate; the caller restores it if needed.
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,

@@ -54,12 +54,16 @@ class CholmodSolver final : public LinearSolver {
     negative_ = -1;
   }
   bool factorize(const SpMat& a) override {
+    const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
     fact_.factorize(a);
     const bool ok = fact_.info() == Eigen::Success;
     negative_ = ok ? negative_pivots(*fact_.factor()) : -1;
     return ok;
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return fact_.solve(b); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
+    return fact_.solve(b);
+  }
   std::string name() const override { return name_; }
   long factor_nonzeros() const override { return static_cast<long>(fact_.cholmod().lnz); }
   std::string analysis_summary() const override {

@@ -1,25 +1,87 @@
 #include <dlfcn.h>
+#include <link.h>
 #include <omp.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
 
 #include "solve/linear_solver.hpp"
 
 namespace fibrane::solve {
 
 // OpenBLAS (pthreads or OpenMP build) starts its own pool at load time, sized by the cores, and keeps
-// it whatever omp_set_num_threads says; openblas_set_num_threads bounds it. The function is looked up
-// at run time, so any BLAS links (the reference BLAS has no threads and no such function). OpenMP
-// builds of OpenBLAS also follow omp_set_num_threads.
+// it whatever omp_set_num_threads says; openblas_set_num_threads bounds it. A process can hold more than
+// one OpenBLAS: Debian's libopenblas.so.0 and the libblas.so.3 / liblapack.so.3 of its alternatives
+// (which CHOLMOD and MUMPS call) are separate copies, each with its own pool, so the function is looked
+// up in every loaded library, at run time (the reference BLAS has no threads and no such function).
+// OpenMP builds of OpenBLAS also follow omp_set_num_threads.
+namespace {
+
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+
+// The function `symbol` of every loaded library that has one, each once.
+template <class F>
+std::vector<F> blas_functions(const char* symbol) {
+  std::vector<std::string> names;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* data) {
+        if (info->dlpi_name && *info->dlpi_name) static_cast<std::vector<std::string>*>(data)->push_back(info->dlpi_name);
+        return 0;
+      },
+      &names);
+  std::vector<F> out;
+  for (const auto& name : names) {
+    void* handle = dlopen(name.c_str(), RTLD_LAZY | RTLD_NOLOAD);
+    if (!handle) continue;
+    // dlsym on a library handle also searches its dependencies: keep each function once.
+    if (auto* f = reinterpret_cast<F>(dlsym(handle, symbol)))
+      if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+    dlclose(handle);
+  }
+  return out;
+}
+
+// Looked up once: the libraries are loaded at start-up.
+const std::vector<SetThreads>& setters() {
+  static const std::vector<SetThreads> f = blas_functions<SetThreads>("openblas_set_num_threads");
+  return f;
+}
+
+const std::vector<GetThreads>& getters() {
+  static const std::vector<GetThreads> f = blas_functions<GetThreads>("openblas_get_num_threads");
+  return f;
+}
+
+void set_blas_threads(int n) {
+  for (SetThreads f : setters()) f(n);
+}
+
+}  // namespace
+
 void set_thread_count(int n) {
   if (n <= 0) return;
   omp_set_num_threads(n);
-  using SetThreads = void (*)(int);
-  if (auto* f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"))) f(n);
+  set_blas_threads(n);
 }
 
 int blas_thread_count() {
-  using GetThreads = int (*)();
-  auto* f = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-  return f ? f() : -1;
+  int most = -1;
+  for (GetThreads f : getters()) most = std::max(most, f());
+  return most;
+}
+
+BlasThreadsForFactor::BlasThreadsForFactor(long factor_nonzeros) {
+  if (factor_nonzeros >= kSmallFactorEntries) return;
+  const int now = blas_thread_count();
+  if (now <= 1) return;
+  restore_ = now;
+  set_blas_threads(1);
+}
+
+BlasThreadsForFactor::~BlasThreadsForFactor() {
+  if (restore_ > 0) set_blas_threads(restore_);
 }
 
 }  // namespace fibrane::solve

@@ -34,6 +34,13 @@ TEST(Json, EscapesStrings) {
   EXPECT_EQ(JsonValue(0.1).dump(), "0.1");
 }
 
+TEST(Json, InvalidUtf8BecomesTheReplacementCharacter) {
+  EXPECT_EQ(json_quote("caf\xc3\xa9"), "\"caf\xc3\xa9\"");          // valid UTF-8 passes through
+  EXPECT_EQ(json_quote("caf\xe9!"), "\"caf\\ufffd!\"");              // Latin-1: one byte, one U+FFFD
+  EXPECT_EQ(json_quote("\xc0\xaf\x7f"), "\"\\ufffd\\ufffd\\u007f\""); // overlong form, DEL
+  EXPECT_EQ(json_quote("\xf0\x9f\x98"), "\"\\ufffd\\ufffd\\ufffd\""); // truncated 4-byte sequence
+}
+
 TEST(Json, PrettyLayout) {
   JsonValue v = JsonValue::object();
   v.set("a", 1).set("b", JsonValue::array({1.5, "x"}));

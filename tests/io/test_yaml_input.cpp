@@ -196,6 +196,27 @@ TEST(YamlInput, StrictScalars) {
   EXPECT_EQ(error_of([&] { root["g"].positive_int(); }), "s.yaml:7: g: expected an integer, got 3000000000");
 }
 
+TEST(YamlInput, MagnitudesAbove1e100AreRefused) {
+  const YamlNode root = YamlNode::load_string("a: 1e100\nb: -1e101\n", "s.yaml");
+  EXPECT_EQ(root["a"].as_double(), 1e100);
+  EXPECT_EQ(error_of([&] { root["b"].as_double(); }),
+            "s.yaml:2: b: expected a number of magnitude at most 1e+100, got -1e101");
+}
+
+TEST(YamlInput, HostileTextIsRefusedWithItsLine) {
+  auto load = [](const std::string& text) { return error_of([&] { YamlNode::load_string(text, "h.yaml"); }); };
+  EXPECT_EQ(load("a: 1\nb: !!str 5\n"),
+            "h.yaml:2: explicit YAML tags ('tag:yaml.org,2002:str') are not allowed in a case file: write plain values");
+  EXPECT_NE(load("a: &x 1\nb: *x\n").find("h.yaml:1: YAML anchors (&name) are not allowed"), std::string::npos);
+  EXPECT_NE(load("a: 1\n---\nb: 2\n").find("h.yaml:2: a second YAML document"), std::string::npos);
+  EXPECT_EQ(load("a: 1\nt: \"caf\xe9\"\n"),
+            "h.yaml:2: invalid UTF-8 (byte 0xE9 at offset 12): a case file must be UTF-8 text");
+  EXPECT_NE(load("a: 1\n\x01\n").find("h.yaml:2: a control character (byte 0x01"), std::string::npos);
+  EXPECT_NE(load("a: " + std::string(100, '[') + std::string(100, ']')).find("nested more than 64 deep"),
+            std::string::npos);
+  EXPECT_NO_THROW(YamlNode::load_string("t: \"caf\xc3\xa9\"\n", "h.yaml")) << "valid UTF-8 passes";
+}
+
 TEST(YamlInput, EditDistance) {
   EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
   EXPECT_EQ(edit_distance("", "abc"), 3u);

@@ -86,4 +86,25 @@ TEST(LawCli, BadArgumentsExitWithCodeTwoAndAMessage) {
   }
 }
 
+TEST(LawCli, NonFiniteArgumentsAreBadInputAndNonFiniteResultsAnError) {
+  REQUIRE_BINARY();
+  for (const char* args : {"law disk-halfspace --m nan --radius 1 --distance 3 --cos 1",
+                           "law disk-plate --m 8 --radius inf --thickness 1 --distance 3 --cos 1",
+                           "law disk-sphere --radius 1 --sphere-radius 1 --distance inf"}) {
+    const Result r = run_fibrane(args);
+    EXPECT_EQ(r.exit_code, 2) << args << ": " << r.output;
+    EXPECT_NE(r.output.find("must be a finite number"), std::string::npos) << r.output;
+  }
+  // Finite arguments whose result overflows or is undefined in double precision: exit 1 and a message,
+  // never a JSON line with nan in it.
+  for (const char* args : {"law disk-plate --m 8 --radius 1e-200 --thickness 1e200 --distance 1e200 --cos 1",
+                           "law disk-sphere --radius 1e300 --sphere-radius 1e300 --distance 1e308",
+                           "law disk-halfspace --m 50 --radius 1 --distance 1e-300 --cos 0"}) {
+    const Result r = run_fibrane(args);
+    EXPECT_EQ(r.exit_code, 1) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find("nan"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("outside the range where it can be evaluated"), std::string::npos) << r.output;
+  }
+}
+
 }  // namespace

@@ -1,0 +1,51 @@
+#pragma once
+// Limits on what a case file may ask for (docs/case-format.md, "Limits"), checked while it is read so that
+// a request that cannot be met is refused with a located message before anything large is allocated:
+// names that end up in file names, polynomial degrees, quadrature points, sampling points, element counts,
+// and an estimate of the memory the model will need against the machine's memory.
+#include <cstdint>
+#include <string>
+
+#include "io/yaml_input.hpp"
+#include "model/model.hpp"
+
+namespace fibrane::casefile {
+
+inline constexpr int kMaxDegree = 8;                   // per parametric direction (shell kernel: (p+1)(q+1) <= 100)
+inline constexpr int kMaxElementsPerDirection = 65536;  // per refine direction
+inline constexpr int kMaxGaussPoints = 20;             // per direction, and at most degree + 4
+inline constexpr int kMaxSamples = 64;                 // output.samples
+inline constexpr std::size_t kMaxNameLength = 64;
+
+// A name used in output file names (bodies, interactions) or as a history.csv column (monitors):
+// 1-64 characters of [A-Za-z0-9_.-], not starting with '.' or '-'. Returns it; InputError at `node`.
+std::string read_safe_name(const io::YamlNode& node);
+
+// Polynomial degree read at `node`: an integer in [1, kMaxDegree].
+int read_degree(const io::YamlNode& node);
+
+// Gauss points per direction read at `node` for a body of polynomial degree `degree`.
+int read_gauss_points(const io::YamlNode& node, int degree);
+
+// A rough size of the discrete model: DOFs, elements, quadrature points and matrix non-zeros.
+struct ModelSize {
+  double dofs = 0, elements = 0, points = 0, nonzeros = 0;
+  double factor_nonzeros = 0;  // of the sparse factorisation (fill-in estimate)
+  ModelSize& operator+=(const ModelSize& o);
+  double bytes() const;  // estimated peak memory of assembly and factorisation
+};
+
+// Size of a shell with `control_points` control points, `elements` elements of degrees (p, q) and
+// `points` quadrature points per element; of a beam likewise (degree p, 4 DOFs per control point).
+ModelSize shell_size(double control_points, double elements, int p, int q, int points);
+ModelSize beam_size(double control_points, double elements, int p, int points);
+// Size of the bodies already in the model.
+ModelSize model_size(const model::Model& m);
+
+// The machine's memory (MemTotal of /proc/meminfo) in bytes; 0 when it cannot be read.
+std::uint64_t machine_memory();
+
+// InputError at `node` when `size` does not fit into the machine's memory, naming the estimate.
+void check_fits(const ModelSize& size, const io::YamlNode& node);
+
+}  // namespace fibrane::casefile
