@@ -56,6 +56,7 @@ void run_mpi(const RunCommandOptions& o) {
   parallel::PetscSolverOptions solver;
   if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;
   if (distributed) {
+    options.newton_log = options.newton_log && session.rank() == 0;  // one log, not one per process
     options.make_solver = [&](bool symmetric) { return parallel::make_petsc_solver(solver, symmetric, distribution); };
     // The processes on one machine share its cores.
     const int cores = static_cast<int>(std::thread::hardware_concurrency());
