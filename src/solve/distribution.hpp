@@ -16,8 +16,8 @@ namespace fibrane::solve {
 class Distribution {
  public:
   virtual ~Distribution() = default;
-  virtual int rank() const { return 0; }
-  virtual int size() const { return 1; }
+  virtual int rank() const { return 0; }  // this process, 0 <= rank() < size()
+  virtual int size() const { return 1; }  // the number of processes
   // Collective: replaces `values` by their sum over the processes; every process gets the same bits.
   virtual void sum(std::span<double> /*values*/) const {}
   // Collective: true on every process if `value` is true on every process.
