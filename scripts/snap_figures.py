@@ -7,7 +7,7 @@ dynamics), then draws docs/figures/snap_to_contact.png and prints the numbers do
 
 Runs go to results/snap/<name>/ (a finished run is not repeated). --quick coarsens both cases (20 beam
 elements, 6 x 3 shell elements): a smoke test of the chain.
-Left panel: the support force of the beam ends against their displacement: the arc-length path (stable
+Left panel: the support force of the beam ends against their height: the arc-length path (stable
 branches solid, the unstable one dashed, limit points marked), the jumps that loading (snap-in) and
 unloading (pull-off) take at the two limit points, and the dynamic run. Right panel: the dynamic run's
 energy account (kinetic, strain, interaction, work of the prescribed motion) and the balance's drift.
@@ -51,19 +51,19 @@ def limit_points(directory):
     return json.loads((directory / "summary.json").read_text()).get("limit_points", [])
 
 
-def jump_target(path, end_uz, after):
-    """The reaction of the path's other stable branch at end displacement end_uz (first crossing past index
+def jump_target(path, end_z, after):
+    """The reaction of the path's other stable branch at end height end_z (first crossing past index
     `after` of a stable stretch): where a quasi-static jump at a limit point lands."""
-    u, f, neg = path["end_uz"], path["reaction_z"], path["negative_eigenvalues"]
+    u, f, neg = path["end_z"], path["reaction_z"], path["negative_eigenvalues"]
     for i in range(after, len(u) - 1):
-        if neg[i + 1] == 0 and neg[i] <= 0 and (u[i] - end_uz) * (u[i + 1] - end_uz) <= 0 and u[i] != u[i + 1]:
-            w = (end_uz - u[i]) / (u[i + 1] - u[i])
+        if neg[i + 1] == 0 and neg[i] <= 0 and (u[i] - end_z) * (u[i + 1] - end_z) <= 0 and u[i] != u[i + 1]:
+            w = (end_z - u[i]) / (u[i + 1] - u[i])
             return f[i] + w * (f[i + 1] - f[i])
     return None
 
 
 def plot_path(ax, path, limits, dynamic):
-    u, f, neg = path["end_uz"], path["reaction_z"], path["negative_eigenvalues"]
+    u, f, neg = path["end_z"], path["reaction_z"], path["negative_eigenvalues"]
     unstable = neg > 0
     for i in range(1, len(u)):
         style = "--" if unstable[i] else "-"
@@ -71,7 +71,7 @@ def plot_path(ax, path, limits, dynamic):
     ax.plot([], [], "-", color="C0", label="arc-length path (stable)")
     ax.plot([], [], "--", color="C0", label="unstable branch")
     for k, lp in enumerate(limits):
-        x, y = lp["values"]["end_uz"], lp["values"]["reaction_z"]
+        x, y = lp["values"]["end_z"], lp["values"]["reaction_z"]
         ax.plot(x, y, "o", color="C3")
         target = jump_target(path, x, lp["step"] + 1 if k == 0 else 0)
         if target is not None:
@@ -79,8 +79,8 @@ def plot_path(ax, path, limits, dynamic):
         ax.annotate("snap-in" if lp["kind"] == "maximum" else "pull-off", (x, y), textcoords="offset points",
                     xytext=(6, -12 if lp["kind"] == "maximum" else 6), color="C3")
     if dynamic is not None:
-        ax.plot(dynamic["end_uz"], dynamic["reaction_z"], color="C1", lw=0.8, alpha=0.8, label="dynamic run (lowering)")
-    ax.set_xlabel("end displacement $u_z$")
+        ax.plot(dynamic["end_z"], dynamic["reaction_z"], color="C1", lw=0.8, alpha=0.8, label="dynamic run (lowering)")
+    ax.set_xlabel("height of the beam ends $z$ (membrane mid-surface: 0)")
     ax.set_ylabel("support force of the ends $R_z$")
     ax.axhline(0, color="0.6", lw=0.5)
     ax.legend(loc="lower left", fontsize=8)
@@ -102,7 +102,7 @@ def plot_energy(ax, h):
 def report(path, limits, dynamic):
     for lp in limits:
         v = lp["values"]
-        print(f"limit point ({lp['kind']} of t): t = {lp['t']:.6g}, end u_z = {v['end_uz']:.6g}, "
+        print(f"limit point ({lp['kind']} of t): t = {lp['t']:.6g}, end z = {v['end_z']:.6g}, "
               f"R_z = {v['reaction_z']:.6g}, mid z = {v['mid_z']:.6g}, step {lp['step']}")
     if dynamic is not None:
         drift = np.abs(dynamic["energy_balance"] - dynamic["energy_balance"][0]).max()

@@ -87,6 +87,7 @@ class Model : public solve::TransientSystem {
   Eigen::VectorXd prescribed_motion(double t, int order) const override;
   const Eigen::VectorXd& external_force() const override { return external_; }
   Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const override;
+  double stored_energy() const override { return strain_energy() + energy(EnergyKind::interaction); }
   const Eigen::SparseMatrix<double>& reduced_mass() override;
 
   // State of the last evaluate().

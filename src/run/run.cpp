@@ -81,6 +81,8 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   auto method = make_method(c.run, options.newton_log);
 
   Eigen::VectorXd q = m.initial_unknowns();
+  std::string prepare_failure;  // e.g. no static equilibrium for a dynamic run to start from
+  const bool prepared = method->prepare(m, q, *solver, prepare_failure);
   m.evaluate(q, c.run.steps.t_start, false);
   solve::StepReport initial;
   initial.t = c.run.steps.t_start;
@@ -97,7 +99,9 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
   const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method.get());
-  summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
+  summary.result.t_reached = c.run.steps.t_start;
+  summary.result.message = prepare_failure;
+  if (prepared) summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
     if (dynamics) m.set_reactions(&dynamics->state().reaction);
     out.write_history(m, r);
     if (limits.add(r, m) && !options.quiet)

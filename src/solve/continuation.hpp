@@ -77,6 +77,13 @@ class ContinuationMethod {
  public:
   virtual ~ContinuationMethod() = default;
   virtual std::string name() const = 0;
+  // Brings q to the state the method starts from, before the run's initial state is reported (e.g. a
+  // static equilibrium that a dynamic run starts from); run() calls it if the caller has not. Returns
+  // false with `failure` set when that state cannot be found. Default: q as given.
+  virtual bool prepare(NonlinearSystem& /*sys*/, Eigen::VectorXd& /*q*/, LinearSolver& /*solver*/,
+                       std::string& /*failure*/) {
+    return true;
+  }
   // Marches from (q, t) = (q, start time) until the end, the callback stops it, or it fails. After each
   // converged step: sys.accept(q, t), then on_step. q holds the last converged state on return.
   virtual ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,

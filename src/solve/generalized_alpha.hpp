@@ -20,6 +20,8 @@
 //   T^T [ r(u_{n+1}, t_{n+1}) + M w(u_{n+1}) ] + alpha_f / (1 - alpha_f) T^T r(u_n, t_n) = 0,
 //   w = (a_w + a_M v_w) / (1 - alpha_f),
 // the bracket being the system's residual (TransientSystem), the last term a constant this method adds.
+#include <limits>
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -52,6 +54,9 @@ class TransientSystem : public NonlinearSystem {
   virtual const Eigen::VectorXd& external_force() const = 0;
   // M x for a full vector x. Must not change the results of the last evaluate().
   virtual Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const = 0;
+  // The energy stored by the internal forces at the last evaluate() (strain and interaction energy: the
+  // potential whose gradient is f_int); NaN if the system does not know it (no energy_tolerance then).
+  virtual double stored_energy() const { return std::numeric_limits<double>::quiet_NaN(); }
   // The reduced mass T^T M T, for the initial acceleration. May overwrite the last evaluate()'s results;
   // the reference is read before the next evaluate().
   virtual const Eigen::SparseMatrix<double>& reduced_mass() = 0;
@@ -76,6 +81,11 @@ struct TransientOptions {
   // dt * max(cutback, 0.9 (tol / eta)^(1/3)) (down to dt_min); an accepted one sets the next dt to
   // dt * min(growth, 0.9 (tol / eta)^(1/3)), at most dt_max. 0: the step size follows Newton alone.
   double error_tolerance = 0.0;
+  // > 0: also bounds the change of the energy balance E_kin + E_stored - W_ext - W_prescribed + D in one step
+  // (absolute, in energy units; TransientSystem::stored_energy): a converged step that changes it by
+  // delta > energy_tolerance is retried with dt * max(cutback, 0.9 (tol / delta)^(1/3)), and the next dt is
+  // limited likewise. The balance then drifts by at most energy_tolerance per step. 0: off.
+  double energy_tolerance = 0.0;
 };
 
 // Throws InputError for invalid parameters (check_parameters) or a_M < 0. (An initial velocity of the wrong
@@ -118,6 +128,8 @@ class GeneralizedAlpha final : public ContinuationMethod {
   std::string name() const override { return "generalized_alpha"; }
   // sys must be a TransientSystem (std::invalid_argument otherwise). Starts from (q, t_start) unless
   // restore() was called since the last run(). Every StepReport carries the energy account.
+  // With Start::static_equilibrium: Newton for r(q, t_start) = 0 (once; a restored run skips it).
+  bool prepare(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver, std::string& failure) override;
   ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                          const StepCallback& on_step) override;
   MethodState save() const override;
@@ -134,9 +146,11 @@ class GeneralizedAlpha final : public ContinuationMethod {
   NewtonReport solve_step(TransientSystem& sys, double t_new, Eigen::VectorXd& q_trial, LinearSolver& solver);
   // The state at t_new from the converged step (the system's last evaluate()).
   TransientState advanced(TransientSystem& sys, double t_new) const;
-  // The factor of dt that the local error estimate of the step from state_ to `next` asks for (> 1: may
-  // grow; < 1: the step is too long); 1 without error control.
-  double error_factor(const TransientState& next, double dt) const;
+  // The factor of dt that the local error estimate and the energy balance of the step from state_ to `next`
+  // (balance: next's energy balance) ask for (> 1: may grow; < 1: the step is too long); 1 without control.
+  double error_factor(const TransientState& next, double balance, double dt) const;
+  // E_kin + E_stored - W_ext - W_prescribed + D of a state whose configuration the system evaluated last.
+  static double energy_balance(const TransientSystem& sys, const TransientState& s);
 
   StepControl control_;
   NewtonOptions newton_;
@@ -149,8 +163,9 @@ class GeneralizedAlpha final : public ContinuationMethod {
   Eigen::VectorXd g_old_[3], g_new_[3];
   double dt_ = 0;         // size of the next step
   double largest_displacement_ = 0;  // max |u| over the converged states (error_tolerance's scale)
+  double balance_ = 0;               // the energy balance of state_ (energy_tolerance)
   int steps_ = 0;
-  bool restored_ = false;
+  bool restored_ = false, prepared_ = false;
 };
 
 }  // namespace fibrane::solve

@@ -317,5 +317,39 @@ TEST(GeneralizedAlpha, LocalErrorControlAdaptsTheStepAndItsErrorFollowsTheTolera
   EXPECT_LT(errors[1], 1e-2);
 }
 
+// The energy-balance control on the same hardening oscillator with the trapezoidal rule: the balance
+// (E_kin + spring energy, no loads) changes by at most energy_tolerance per accepted step, and in total by
+// less than the uncontrolled run with the same initial step.
+TEST(GeneralizedAlpha, EnergyToleranceBoundsTheBalanceChangePerStep) {
+  const Eigen::VectorXd u0 = Eigen::VectorXd::Constant(1, 1.0);
+  StepControl sc = testing::fixed_steps(0.02, 1.0);
+  sc.dt_max = 0.2;
+  sc.growth = 2.0;
+  const auto drift_per_step = [](const testing::TransientRun& run, double& total) {
+    double largest = 0.0, previous = 50.5;  // E_kin 0, spring energy at u = 1: 1/2 + 200/4
+    total = 0.0;
+    for (const TransientState& s : run.states) {
+      const double e = s.u[1] - s.u[0];
+      const double balance = s.energy.kinetic + 0.5 * e * e + 50.0 * e * e * e * e;
+      largest = std::max(largest, std::abs(balance - previous));
+      total = std::max(total, std::abs(balance - 50.5));
+      previous = balance;
+    }
+    return largest;
+  };
+  const double tol = 1e-4;
+  OscillatorChain osc = testing::make_oscillator(1.0, 1.0, 200.0);
+  TransientOptions opt;
+  opt.energy_tolerance = tol;
+  const auto run = testing::run_transient(osc, sc, opt, u0, true);
+  ASSERT_TRUE(run.result.completed()) << run.result.message;
+  double total = 0.0, total_fixed = 0.0;
+  EXPECT_LE(drift_per_step(run, total), tol * (1 + 1e-9));
+  OscillatorChain fixed = testing::make_oscillator(1.0, 1.0, 200.0);
+  const auto fixed_run = testing::run_transient(fixed, testing::fixed_steps(0.02, 1.0), TransientOptions{}, u0, true);
+  drift_per_step(fixed_run, total_fixed);
+  EXPECT_LT(total, total_fixed) << total << " vs " << total_fixed;
+}
+
 }  // namespace
 }  // namespace fibrane::solve
