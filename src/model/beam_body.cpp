@@ -26,8 +26,8 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
     if (kv.multiplicity(unique[k]) >= p)
       throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + format_number(unique[k]) +
                        " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
-                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of less than 360 degrees "
-                       "or a NURBS axis without C0 knots");
+                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of less than 360 "
+                       "degrees or a NURBS axis without C0 knots");
   for (int span : kv.element_spans()) {
     BeamElement e;
     e.span = span;

@@ -18,7 +18,9 @@ constexpr double kSingleSegmentSweep = 2.0 * std::numbers::pi / 3.0;
 UnitArc single_segment(double angle0, double angle1) {
   const double h = 0.5 * (angle1 - angle0), m = angle0 + h, w = std::cos(h);
   return {KnotVector(2, {0, 0, 0, 1, 1, 1}),
-          {{std::cos(angle0), std::sin(angle0)}, {std::cos(m) / w, std::sin(m) / w}, {std::cos(angle1), std::sin(angle1)}},
+          {{std::cos(angle0), std::sin(angle0)},
+           {std::cos(m) / w, std::sin(m) / w},
+           {std::cos(angle1), std::sin(angle1)}},
           {1.0, w, 1.0}};
 }
 
