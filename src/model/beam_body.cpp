@@ -19,15 +19,15 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
   const auto& kv = curve.knots();
   const int p = curve.degree();
   // The bending energy (Eq. 46) needs a C1 axis: at a C0 knot the displacement field may kink at no cost,
-  // a hinge that makes the tangent singular. Arcs above 90 degrees carry such a joint (double knot of
-  // the quadratic arc, which degree elevation keeps at C0).
+  // a hinge that makes the tangent singular (the case reader rejects such axes with a located message
+  // first: casefile::check_no_kinks).
   const auto unique = kv.unique_knots();
   for (std::size_t k = 1; k + 1 < unique.size(); ++k)
     if (kv.multiplicity(unique[k]) >= p)
       throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + format_number(unique[k]) +
                        " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
-                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of at most 90 degrees "
-                       "or a NURBS axis without C0 knots (one rational quadratic piece spans arcs below 180)");
+                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of less than 360 "
+                       "degrees or a NURBS axis without C0 knots");
   for (int span : kv.element_spans()) {
     BeamElement e;
     e.span = span;

@@ -228,6 +228,7 @@ double Coupling::evaluate(const State& state, ElementSink& sink, Status& status)
   bool bad = false;
   double energy = evaluate_pairs(state, sink, bad);
   energy += evaluate_soft_points(state, sink, bad);
+  classify_points();
   if (bad)
     status.merge(Status::invalid("a beam point of interaction '" + name_ +
                                  "' lies inside the plate, where the interaction law has no value"));
@@ -286,6 +287,21 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
     }
   }
   return energy;
+}
+
+void Coupling::classify_points() {
+  using Where = interaction::ShellProximity::Projection::Where;
+  lost_points_ = 0;
+  for (std::size_t i = 0; i < quad_.size(); ++i) {
+    auto& p = points_[i];
+    if (p.active) {
+      p.status = p.soft ? CouplingPoint::Status::soft : CouplingPoint::Status::interior;
+      continue;
+    }
+    // Not evaluated: off the patch, or no projection (a point whose kernel threw makes the state invalid).
+    p.status = projection_[i].where == Where::outside ? CouplingPoint::Status::outside : CouplingPoint::Status::failed;
+    ++lost_points_;
+  }
 }
 
 Eigen::Vector3d Coupling::total_force() const {

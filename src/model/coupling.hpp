@@ -22,9 +22,15 @@ class ShellBody;
 
 // What one beam quadrature point sees, for output.
 struct CouplingPoint {
+  // interior: paired with its closest point on the shell; soft: evaluated with the soft minimum;
+  // outside: the closest point lies off the shell patch (the stationary point of the distance is beyond
+  // an edge); failed: the closest-point projection did not converge. Outside and failed points are
+  // "lost": they carry no interaction, and distance / cos_alpha / position have no meaning for them.
+  enum class Status { interior, soft, outside, failed };
   double xi = 0, s = 0;        // beam parameter and reference arc length
-  bool active = false;         // false: the projection left the shell patch (no interaction)
+  bool active = false;         // interior or soft (the point interacts)
   bool soft = false;           // evaluated with the soft minimum (distance = the soft distance D)
+  Status status = Status::outside;
   double distance = 0, cos_alpha = 1, energy_density = 0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
@@ -71,6 +77,10 @@ class Coupling final : public Contribution {
   int soft_points() const { return static_cast<int>(soft_.size()); }
 
   const std::vector<CouplingPoint>& points() const { return points_; }
+  // Beam quadrature points of the last evaluation whose closest point is outside the patch or whose
+  // projection failed (CouplingPoint::Status): they carry no interaction.
+  int lost_points() const { return lost_points_; }
+  int quadrature_points() const { return static_cast<int>(quad_.size()); }
   double energy() const { return energy_; }
   Eigen::Vector3d total_force() const;  // integral of the force per length over the beam
 
@@ -93,6 +103,8 @@ class Coupling final : public Contribution {
   std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
   std::vector<CouplingPoint> points_;
   double energy_ = 0;
+  int lost_points_ = 0;
+  void classify_points();  // sets each point's status and lost_points_ after an evaluation
 
   struct SoftPoint {
     int point;                      // index into quad_

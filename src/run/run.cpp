@@ -87,7 +87,12 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   solve::StepReport initial;
   initial.t = c.run.steps.t_start;
   initial.residual_norm = m.residual().norm();
+  // Warnings go to stderr even with --quiet: they say that an output is not what its name suggests.
+  auto warn = [&]() {
+    for (const auto& w : out.take_warnings()) std::cerr << "\nfibrane: warning: " << w << "\n";
+  };
   out.write_history(m, initial);
+  warn();
   out.write_vtk(m, initial);
   StopRule stop_rule(c.run, m);
   std::ostringstream quiet_sink;
@@ -104,6 +109,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   if (prepared) summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
     if (dynamics) m.set_reactions(&dynamics->state().reaction);
     out.write_history(m, r);
+    warn();
     if (limits.add(r, m) && !options.quiet)
       std::cerr << "\nfibrane: limit point (" << (limits.last().maximum ? "maximum" : "minimum") << " of t) at t = "
                 << format_number(limits.last().t) << " in step " << r.step << "\n";
