@@ -88,6 +88,7 @@ std::size_t write_checkpoint(const std::string& directory, const casefile::Case&
   d.arrays["history_rows"] = {static_cast<double>(k.output.history_rows)};
   d.arrays["stop_peak"] = {k.stop_peak};
   d.arrays["limit_points"] = k.limit_points;
+  d.arrays["completed"] = {k.completed ? 1.0 : 0.0};
   put_state(d, "method.", k.method);
   put_state(d, "model.", k.model);
   put_series(d, k.output);
@@ -104,6 +105,10 @@ RunCheckpoint read_checkpoint(const std::string& directory, const casefile::Case
   if (static_cast<int>(d.scalar("dofs", path)) != c.model->dofs.size() ||
       static_cast<int>(d.scalar("free_dofs", path)) != c.model->constraints.num_free())
     throw InputError(path + ": its DOF counts differ from the model's (another build of the case)");
+  if (d.scalar("completed", path) != 0.0)
+    throw InputError(fmt::format("{}: the run completed at t = {} (step {}); there is nothing to continue (run the "
+                                 "case without --restart to start anew)",
+                                 path, d.scalar("t", path), static_cast<int>(d.scalar("step", path))));
   RunCheckpoint k;
   k.method_name = d.text("method", path);
   k.step = static_cast<int>(d.scalar("step", path));

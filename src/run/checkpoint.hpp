@@ -25,6 +25,7 @@ struct RunCheckpoint {
   output::OutputPosition output;
   double stop_peak = 0;
   std::vector<double> limit_points;  // LimitPointFinder::save()
+  bool completed = false;  // written at the end of a completed run: there is nothing to continue
 };
 
 // 64-bit FNV-1a of the case file's bytes, as 16 hex digits (InputError if the file cannot be read).
@@ -34,7 +35,7 @@ std::string case_fingerprint(const std::string& case_path);
 std::size_t write_checkpoint(const std::string& directory, const casefile::Case& c, const RunCheckpoint& k);
 
 // Reads the checkpoint in `directory` and checks that it was written for case `c` (same file text, same
-// DOF layout, same continuation method). InputError naming the checkpoint file otherwise.
+// DOF layout) by a run that did not complete. InputError naming the checkpoint file otherwise.
 RunCheckpoint read_checkpoint(const std::string& directory, const casefile::Case& c);
 
 }  // namespace fibrane::run

@@ -114,7 +114,7 @@ class Run {
  private:
   void resume(const RunCheckpoint& k);
   bool on_step(const solve::StepReport& r);
-  void write_checkpoint(int step, double t);
+  void write_checkpoint(int step, double t, bool completed = false);
 
   casefile::Case& c_;
   model::Model& m_;
@@ -150,7 +150,7 @@ void Run::resume(const RunCheckpoint& k) {
               << ") in " << out_.directory() << "\n";
 }
 
-void Run::write_checkpoint(int step, double t) {
+void Run::write_checkpoint(int step, double t, bool completed) {
   const auto start = std::chrono::steady_clock::now();
   RunCheckpoint k;
   k.step = step;
@@ -162,6 +162,7 @@ void Run::write_checkpoint(int step, double t) {
   k.output = out_.position();
   k.stop_peak = stop_rule_.peak();
   k.limit_points = limits_.save();
+  k.completed = completed;
   checkpoint_bytes_ = run::write_checkpoint(out_.directory(), c_, k);
   last_checkpoint_ = step;
   ++checkpoints_;
@@ -202,6 +203,9 @@ void Run::march(RunSummary& summary) {
   // their last step is checkpointed.
   const bool out_of_steps = summary.result.outcome == solve::Outcome::max_steps;
   if ((out_of_steps || summary.interrupted_by) && last_checkpoint_ != last_step_) write_checkpoint(last_step_, last_t_);
+  // A completed run's checkpoint says so: a restart would march past the end (or the stop rule).
+  if (summary.result.completed() && !summary.interrupted_by && c_.output.checkpoint_every > 0)
+    write_checkpoint(last_step_, last_t_, true);
   if (stopped_) summary.result.message = stop_rule_.message();
   if (summary.interrupted_by) {
     summary.result.message = std::string("interrupted at t = ") + format_number(last_t_) + " by " +

@@ -194,6 +194,12 @@ TEST_P(RestartMethod, AfterMaxStepsEqualsTheUninterruptedRun) {
   ASSERT_EQ(second.exit_code, 0) << second.output;
   expect_same_history(dir / "full", dir / "part");
   EXPECT_EQ(read_file(dir / "part" / "roof.pvd"), read_file(dir / "full" / "roof.pvd"));
+  // The run is complete now: another restart is refused and changes nothing.
+  const std::string history = read_file(dir / "part" / "history.csv");
+  const auto again = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("nothing to continue"), std::string::npos) << again.output;
+  EXPECT_EQ(read_file(dir / "part" / "history.csv"), history);
   fs::remove_all(dir);
 }
 
@@ -258,6 +264,36 @@ TEST(Restart, SigtermWritesAnInterruptedSummaryAndExits143) {
 TEST(Restart, SigintWritesAnInterruptedSummaryAndExits130) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
   interrupt_and_restart(SIGINT, 130, "SIGINT");
+}
+
+// The bending example at 32 x 8 x 8 (RF2 with the soft minimum; about 5 s of CPU per run): the first
+// beam point switches to the soft minimum in step 32, requested when step 31 was accepted. A run stopped
+// after step 31 and restarted carries the pending switch over, and its history and per-point interaction
+// files equal the uninterrupted run's.
+TEST(Restart, AcrossASoftMinimumSwitchEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-soft-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: [8, 8]"},
+                                 {"elements: 400", "elements: 32"},
+                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  }
+  std::ofstream(dir / "case.yaml") << yaml;
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'").exit_code, 0);
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "part").string() + "' --max-steps 31").exit_code, 1);
+  const auto second = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(dir / "full", dir / "part");
+  const std::string step32 = "interaction/adhesion_000032.csv", last = "interaction/adhesion_000035.csv";
+  EXPECT_NE(read_file(dir / "full" / step32).find(",1\n"), std::string::npos) << "no soft point in step 32";
+  EXPECT_EQ(read_file(dir / "part" / step32), read_file(dir / "full" / step32));
+  EXPECT_EQ(read_file(dir / "part" / last), read_file(dir / "full" / last));
+  fs::remove_all(dir);
 }
 
 TEST(Restart, RefusesAnotherCaseOrAMissingCheckpoint) {
