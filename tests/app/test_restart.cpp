@@ -210,6 +210,25 @@ INSTANTIATE_TEST_SUITE_P(
                       MethodCase{"dynamics", "steps: {method: dynamics, t_end: 0.5, dt: 0.01}\n"}),
     [](const auto& info) { return std::string(info.param.name); });
 
+// A new run (no --restart) into a directory never continues or keeps an earlier run's checkpoint: the
+// stale file is removed before the run starts, and with checkpoint_every 0 a completed run writes none.
+TEST(Restart, ANewRunRemovesAnEarlierRunsCheckpoint) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-stale-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "out");
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/shallow-roof.yaml");
+  yaml = yaml.substr(0, yaml.find("steps:")) + "steps: {t_end: 0.2, dt: 0.1}\n";
+  std::ofstream(dir / "case.yaml") << yaml << "output: {directory: out, vtk: false, checkpoint_every: 0}\n";
+  std::ofstream(dir / "out" / "checkpoint.bin") << "an earlier run's checkpoint";
+  const auto r = run_case(dir / "case.yaml", "-o '" + (dir / "out").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.bin"));
+  const auto restart = run_case(dir / "case.yaml", "--restart '" + (dir / "out").string() + "'");
+  EXPECT_EQ(restart.exit_code, 2) << restart.output;
+  fs::remove_all(dir);
+}
+
 TEST(Restart, AfterSigkillEqualsTheUninterruptedRun) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
   const fs::path& reference = reference_run();
