@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/error.hpp"
 #include "common/format.hpp"
@@ -79,21 +80,25 @@ class Run {
   Run(casefile::Case& c, const RunOptions& options, const std::string& directory,
       const std::optional<RunCheckpoint>& restart)
       : c_(c), m_(*c.model), options_(options), method_(make_method(c.run, options.newton_log)),
-        out_(c, directory, restart ? &restart->output : nullptr),
         solver_(solve::make_linear_solver(c.run.linear_solver, m_.symmetric())),
         q_(m_.initial_unknowns()), stop_rule_(c.run, m_),
         limits_(model::observables(m_)),
         progress_(options.quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink_, false)
                                 : io::ProgressLine(c.run.steps.t_end)) {
     progress_.set_monotone(c.run.method != casefile::Method::arc_length);
+    // A checkpoint that does not fit fails here, before the output directory is touched.
+    if (restart) resume(*restart);
+    out_ = std::make_unique<output::RunOutput>(c, directory, restart ? &restart->output : nullptr);
     if (restart) {
-      resume(*restart);
+      if (!options.quiet)
+        std::cerr << "fibrane: restarting from the checkpoint of step " << restart->step
+                  << " (t = " << format_number(restart->t) << ") in " << directory << "\n";
     } else {
       solve::StepReport initial;
       initial.t = c.run.steps.t_start;
       initial.residual_norm = m_.residual().norm();
-      out_.write_history(m_, initial);
-      out_.write_vtk(m_, initial);
+      out_->write_history(m_, initial);
+      out_->write_vtk(m_, initial);
     }
   }
 
@@ -101,7 +106,7 @@ class Run {
   void march(RunSummary& summary);
   // summary.json, with `extra` members.
   void write_summary(const RunSummary& summary, const io::JsonValue& extra) {
-    out_.write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
+    out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
   }
   const std::vector<LimitPoint>& limit_points() const { return limits_.found(); }
   // The checkpoints written by this run: count, wall time spent writing them, size of the last one.
@@ -120,7 +125,7 @@ class Run {
   model::Model& m_;
   const RunOptions& options_;
   std::unique_ptr<solve::ContinuationMethod> method_;
-  output::RunOutput out_;
+  std::unique_ptr<output::RunOutput> out_;
   std::unique_ptr<solve::LinearSolver> solver_;
   Eigen::VectorXd q_;
   StopRule stop_rule_;
@@ -136,18 +141,18 @@ class Run {
 
 void Run::resume(const RunCheckpoint& k) {
   if (k.method_name != method_->name())
-    throw InputError(out_.directory() + ": the checkpoint was written by the " + k.method_name +
-                     " method, the case asks for " + method_->name());
+    throw InputError("checkpoint: written by the " + k.method_name + " method, the case asks for " + method_->name());
   q_ = k.q;
   m_.restore_state(k.model);
-  method_->restore(k.method);
+  try {
+    method_->restore(k.method);
+  } catch (const std::out_of_range&) {
+    throw InputError("checkpoint: the " + k.method_name + " method's state in it is incomplete");
+  }
   stop_rule_.set_peak(k.stop_peak);
   limits_.restore(k.limit_points);
   last_checkpoint_ = last_step_ = k.step;
   last_t_ = k.t;
-  if (!options_.quiet)
-    std::cerr << "fibrane: restarting from the checkpoint of step " << k.step << " (t = " << format_number(k.t)
-              << ") in " << out_.directory() << "\n";
 }
 
 void Run::write_checkpoint(int step, double t, bool completed) {
@@ -159,11 +164,11 @@ void Run::write_checkpoint(int step, double t, bool completed) {
   k.method_name = method_->name();
   k.method = method_->save();
   k.model = m_.save_state();
-  k.output = out_.position();
+  k.output = out_->position();
   k.stop_peak = stop_rule_.peak();
   k.limit_points = limits_.save();
   k.completed = completed;
-  checkpoint_bytes_ = run::write_checkpoint(out_.directory(), c_, k);
+  checkpoint_bytes_ = run::write_checkpoint(out_->directory(), c_, k);
   last_checkpoint_ = step;
   ++checkpoints_;
   checkpoint_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -173,14 +178,14 @@ bool Run::on_step(const solve::StepReport& r) {
   const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method_.get());
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
   if (dynamics) m_.set_reactions(&dynamics->state().reaction);
-  out_.write_history(m_, r);
+  out_->write_history(m_, r);
   if (limits_.add(r, m_) && !options_.quiet)
     std::cerr << "\nfibrane: limit point (" << (limits_.last().maximum ? "maximum" : "minimum") << " of t) at t = "
               << format_number(limits_.last().t) << " in step " << r.step << "\n";
   stopped_ = stop_rule_.reached(m_);
   const double t_end = c_.run.steps.t_end;
   const double t_last = t_end - 1e-12 * std::max(1.0, std::abs(t_end));
-  if (r.t >= t_last || stopped_ || out_.vtk_due(r.step)) out_.write_vtk(m_, r);
+  if (r.t >= t_last || stopped_ || out_->vtk_due(r.step)) out_->write_vtk(m_, r);
   last_step_ = r.step;
   last_t_ = r.t;
   const int every = c_.output.checkpoint_every;
