@@ -149,9 +149,10 @@ TEST(Restart, AfterMaxStepsEqualsTheUninterruptedRun) {
   const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-max-steps-" + std::to_string(::getpid()));
   const fs::path case_file = write_peeling(dir, 4);
   const fs::path out = dir / "out";
-  // 13 steps: the run that runs out of steps writes a checkpoint at its last step, whatever
-  // checkpoint_every (4) says.
-  const auto first = run_case(case_file, "-o '" + out.string() + "' --max-steps 13");
+  // 24 steps: the run that runs out of steps writes a checkpoint at its last step, whatever
+  // checkpoint_every (4) says. Step 25 passes the pull-off limit point, which the restarted run locates
+  // from the last three points before the checkpoint and the one after it.
+  const auto first = run_case(case_file, "-o '" + out.string() + "' --max-steps 24");
   ASSERT_EQ(first.exit_code, 1) << first.output;
   EXPECT_NE(read_file(out / "summary.json").find("\"max_steps\""), std::string::npos);
   const auto second = run_case(case_file, "--restart '" + out.string() + "'");
@@ -159,7 +160,14 @@ TEST(Restart, AfterMaxStepsEqualsTheUninterruptedRun) {
   expect_same_history(reference, out);
   EXPECT_EQ(read_file(out / "fiber.pvd"), read_file(reference / "fiber.pvd"));
   EXPECT_EQ(read_file(out / "membrane.pvd"), read_file(reference / "membrane.pvd"));
-  EXPECT_NE(read_file(out / "summary.json").find("\"restarted_from_step\": 13"), std::string::npos);
+  const std::string summary = read_file(out / "summary.json"), expected = read_file(reference / "summary.json");
+  EXPECT_NE(summary.find("\"restarted_from_step\": 24"), std::string::npos);
+  auto limit_points = [](const std::string& text) {
+    const auto from = text.find("\"limit_points\""), to = text.find("\"restarted_from_step\"");
+    return from == std::string::npos || to == std::string::npos ? std::string() : text.substr(from, to - from);
+  };
+  EXPECT_NE(limit_points(expected).find("maximum"), std::string::npos) << expected;
+  EXPECT_EQ(limit_points(summary), limit_points(expected));
   fs::remove_all(dir);
 }
 
@@ -259,6 +267,10 @@ void interrupt_and_restart(int signal, int exit_code, const char* name) {
   const fs::path out = dir / "out";
   const pid_t pid = spawn_run(case_file, out);
   wait_for_rows(pid, out, 10, false);
+  // fibrane re-executes itself once at start-up (app/openmp_environment.cpp) with execv: the process that
+  // runs the steps is the re-executed image under the pid the signal goes to.
+  EXPECT_NE(read_file("/proc/" + std::to_string(pid) + "/environ").find("FIBRANE_OPENMP_CONFIGURED=1"),
+            std::string::npos);
   EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
   ASSERT_EQ(kill(pid, signal), 0);
   int status = 0;
