@@ -69,7 +69,8 @@ MethodState ArcLength::save() const {
           {"have_tangent", {have_tangent_ ? 1.0 : 0.0}},
           {"tangent_dq", std::vector<double>(tangent_.dq.data(), tangent_.dq.data() + tangent_.dq.size())},
           {"tangent_dt", {tangent_.dt}},
-          {"tangent_negative_eigenvalues", {static_cast<double>(tangent_.negative_eigenvalues)}}};
+          {"tangent_negative_eigenvalues", {static_cast<double>(tangent_.negative_eigenvalues)}},
+          {"sign_disagreements", {static_cast<double>(disagreements_)}}};
 }
 
 void ArcLength::restore(const MethodState& s) {
@@ -90,6 +91,7 @@ void ArcLength::restore(const MethodState& s) {
     tangent_.dt = value("tangent_dt");
     tangent_.negative_eigenvalues = static_cast<int>(value("tangent_negative_eigenvalues"));
   }
+  disagreements_ = s.count("sign_disagreements") ? static_cast<int>(value("sign_disagreements")) : 0;
   restored_ = true;
 }
 
