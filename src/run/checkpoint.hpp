@@ -1,11 +1,12 @@
 #pragma once
 // A run's checkpoint: everything a restarted run needs to continue as the uninterrupted run would. It
 // lives in the output directory (output::kCheckpointFile) and is replaced atomically after every
-// `output.checkpoint_every` steps and when a run is interrupted or runs out of steps. It holds the
-// unknowns q, the continuation method's state (ContinuationMethod::save), the state the model's
-// contributions keep between steps (Model::save_state: beam frames, projection warm starts, soft points),
-// the output position (history rows, VTK series), the stop rule's peak and the limit points found, and a
-// fingerprint of the case (the case file's text and the model's DOF counts) that a restart checks.
+// `output.checkpoint_every` steps, when a run is interrupted or runs out of steps, and at the end of a
+// completed run (marked complete: nothing to continue). It holds the unknowns q, the continuation
+// method's state (ContinuationMethod::save), the state the model's contributions keep between steps
+// (Model::save_state: beam frames, projection warm starts, soft points), the output position (history
+// rows, VTK series), the stop rule's peak and the limit points found, and a fingerprint of the case (the
+// case file's text and the model's DOF counts) that a restart checks.
 #include <string>
 
 #include <Eigen/Dense>

@@ -83,7 +83,7 @@ void ArcLength::restore(const MethodState& s) {
   dt_prev_ = value("dt_prev");
   tangent_dt_sign_ = static_cast<int>(value("tangent_dt_sign"));
   inertia_prev_ = static_cast<int>(value("negative_eigenvalues"));
-  // A state saved without the tangent (older callers) recomputes it at the restored state.
+  // A state without the tangent (e.g. one assembled by hand) has it recomputed at the restored state.
   have_tangent_ = s.count("have_tangent") && value("have_tangent") != 0.0;
   if (have_tangent_) {
     const auto& tq = s.at("tangent_dq");
