@@ -103,15 +103,19 @@ CliResult run_case(const fs::path& case_file, const std::string& options) {
   return run_cli("run '" + case_file.string() + "' -q --threads 1 " + options);
 }
 
-// The uninterrupted run of the coarse peeling case, computed once.
+// The uninterrupted run of the coarse peeling case, computed once per test process and removed at its end.
 const fs::path& reference_run() {
-  static const fs::path dir = [] {
-    const fs::path d = fs::temp_directory_path() / ("fibrane-restart-reference-" + std::to_string(::getpid()));
-    const auto r = run_case(write_peeling(d, 4), "-o '" + (d / "out").string() + "'");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return d / "out";
-  }();
-  return dir;
+  struct Reference {
+    fs::path dir = fs::temp_directory_path() / ("fibrane-restart-reference-" + std::to_string(::getpid()));
+    fs::path out = dir / "out";
+    Reference() {
+      const auto r = run_case(write_peeling(dir, 4), "-o '" + out.string() + "'");
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+    }
+    ~Reference() { fs::remove_all(dir); }
+  };
+  static const Reference reference;
+  return reference.out;
 }
 
 // Starts fibrane in the background (output to /dev/null); returns its pid.
