@@ -1,4 +1,4 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`
+// `fibrane run CASE.yaml [-o OUTDIR | --restart OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -14,11 +14,16 @@ void register_run_command(CLI::App& app) {
     std::string case_file;
     run::RunOptions run;
     int max_steps = 0;
+    std::string restart_directory;
   };
   auto opt = std::make_shared<Options>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
-  cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
+  auto* output = cmd->add_option("-o,--output", opt->run.output_directory,
+                                 "Output directory (default: the case's output.directory); an earlier run's files there are replaced");
+  cmd->add_option("--restart", opt->restart_directory,
+                  "Continue the run whose output (and checkpoint.bin) is in this directory, from its last checkpoint")
+      ->excludes(output);
   cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
@@ -29,13 +34,18 @@ void register_run_command(CLI::App& app) {
     // Reading the whole case first: bad input stops here, before any output file exists.
     casefile::Case c = casefile::read_case(opt->case_file);
     if (opt->max_steps > 0) c.run.steps.max_steps = std::min(c.run.steps.max_steps, opt->max_steps);
+    if (!opt->restart_directory.empty()) {
+      opt->run.output_directory = opt->restart_directory;
+      opt->run.restart = true;
+    }
     const auto s = run::run_case(c, opt->run);
     std::cout << "fibrane: " << (s.result.completed() ? "completed" : "stopped") << " at t = " << s.result.t_reached
               << " after " << s.result.steps << " steps, " << s.result.total_iterations << " Newton iterations, "
               << s.wall_seconds << " s; results in " << s.directory << "\n";
     if (!s.result.completed()) {
       std::cerr << "fibrane: " << s.result.message << "\n";
-      throw CLI::RuntimeError(1);
+      // Interrupted: the shell's convention 128 + signal (130 for SIGINT, 143 for SIGTERM).
+      throw CLI::RuntimeError(s.interrupted_by ? 128 + s.interrupted_by : 1);
     }
   });
 }

@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
@@ -183,6 +184,22 @@ void BeamBody::accept(const State& state) {
       beam::update_point_state(states[e][i], basis_matrix(curve.basis(xi, 2)), q);
     }
   }
+}
+
+std::vector<double> BeamBody::save_state() const {
+  StateWriter w;
+  for (const auto& element : states)
+    for (const auto& s : element) w.add(s);
+  for (const auto& s : probe_states_) w.add(s);
+  return w.take();
+}
+
+void BeamBody::restore_state(const std::vector<double>& state) {
+  StateReader r(state, "beam '" + name_ + "'");
+  for (auto& element : states)
+    for (auto& s : element) s = r.next_point_state();
+  for (auto& s : probe_states_) s = r.next_point_state();
+  r.finish();
 }
 
 int BeamBody::add_probe(double xi) {

@@ -68,6 +68,10 @@ class Coupling final : public Contribution {
   // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.
   std::string failure_hint() const override;
+  // The projections' warm starts, the beam points' last positions, the pairs' pattern and the soft-minimum
+  // points (their windows are rebuilt from the saved centres) and pending switches (coupling_state.cpp).
+  std::vector<double> save_state() const override;
+  void restore_state(const std::vector<double>& state) override;
 
   // Soft minimum (interaction/soft_distance.hpp, RF2 only): a beam point whose converged closest point
   // has relative curvature below `below`, or whose closest point jumped in a failed attempt, is evaluated
@@ -119,6 +123,7 @@ class Coupling final : public Contribution {
   double beta() const;  // 1 / (width d_eq)
   Eigen::Vector3d beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   void update_soft_windows();
+  interaction::SoftWindow soft_window(const Eigen::Vector2d& centre) const;  // the window around `centre`
   void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
   bool collect_pairs();  // true if a pair outside the pattern appeared
   double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 
+#include "common/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json.hpp"
 #include "output/body_vtk.hpp"
@@ -52,7 +53,7 @@ std::vector<std::string> vtk_series_names(const casefile::Case& c) {
 // show them, but a script reading the folder would), and an interrupted run would keep a summary saying
 // "completed"; a collection of another VTK choice (a <body>_sampled.pvd beside a Bezier-only run) would
 // point at removed files. Only names this case writes (<name>[_sampled].pvd, <name>[_sampled]_<6 digits>.vtu,
-// <name>_<6 digits>.csv, summary.json) are touched; history.csv is rewritten.
+// <name>_<6 digits>.csv, summary.json, checkpoint.bin) are touched; history.csv is rewritten.
 void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m) {
   namespace fs = std::filesystem;
   std::vector<std::string> names = output_names(m);
@@ -66,6 +67,7 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
   };
   std::error_code ec;
   fs::remove(dir / "summary.json", ec);
+  fs::remove(dir / kCheckpointFile, ec);
   for (const auto& n : names) fs::remove(dir / (n + ".pvd"), ec);
   for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
     if (!fs::is_directory(dir / sub)) continue;
@@ -76,17 +78,36 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
 
 }  // namespace
 
-RunOutput::RunOutput(const casefile::Case& c, std::string directory)
+RunOutput::RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume)
     : case_(c), dir_(std::move(directory)), observables_(model::observables(*c.model)) {
   namespace fs = std::filesystem;
-  remove_earlier_run(dir_, *c.model);
+  const std::string history = (fs::path(dir_) / "history.csv").string();
+  energy_ = c.run.method == casefile::Method::dynamics;
+  const std::vector<std::string> names = c.output.vtk ? vtk_series_names(c) : std::vector<std::string>{};
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
-  energy_ = c.run.method == casefile::Method::dynamics;
-  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(),
-                                             history_columns(*c.model, energy_));
-  if (c.output.vtk)
-    for (const auto& name : vtk_series_names(c)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
+  if (resume) {
+    if (resume->series.size() != names.size())
+      throw InputError(dir_ + ": the checkpoint's VTK series do not match the case's output settings");
+    std::error_code ec;
+    fs::remove(fs::path(dir_) / "summary.json", ec);
+    history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_), resume->history_rows);
+  } else {
+    remove_earlier_run(dir_, *c.model);
+    history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_));
+  }
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string pvd = (fs::path(dir_) / (names[k] + ".pvd")).string();
+    if (resume) series_.emplace_back(pvd, resume->series[k]);
+    else series_.emplace_back(pvd);
+  }
+}
+
+OutputPosition RunOutput::position() const {
+  OutputPosition p;
+  p.history_rows = history_->rows_written();
+  for (const auto& s : series_) p.series.push_back(s.entries());
+  return p;
 }
 
 void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {

@@ -24,10 +24,23 @@ namespace fibrane::output {
 // external loads and of the prescribed motion, damping work, and their balance.
 std::vector<std::string> history_columns(const model::Model& m, bool energy = false);
 
+// The name of the checkpoint file in a run's output directory (run/checkpoint.hpp).
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+
+// Where a restarted run's output continues: the history rows and the VTK series' entries at the
+// checkpoint (series in the order RunOutput writes them).
+struct OutputPosition {
+  std::size_t history_rows = 0;
+  std::vector<std::vector<io::PvdCollection::Entry>> series;
+};
+
 class RunOutput {
  public:
-  // Removes an earlier run's step files and summary from `directory` (see run_output.cpp), creates it.
-  RunOutput(const casefile::Case& c, std::string directory);
+  // A new run: removes an earlier run's step files, summary and checkpoint from `directory` (see
+  // run_output.cpp), creates it. A restarted run (`resume`): keeps the directory's files, cuts
+  // history.csv back to resume->history_rows rows, continues the VTK series from resume->series and
+  // removes only summary.json. InputError if the history or the series do not fit the case.
+  RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume = nullptr);
   // Writes the state of the model's last evaluate() as step `report.step`: a history row and the
   // interaction CSVs.
   void write_history(const model::Model& m, const solve::StepReport& report);
@@ -40,6 +53,8 @@ class RunOutput {
   // Warnings raised by the steps written since the last call (the first step of the run at which an
   // interaction has lost points), as sentences for stderr; clears them.
   std::vector<std::string> take_warnings();
+  // The position a restart continues from after the last write.
+  OutputPosition position() const;
 
  private:
   // What summary.json reports per interaction: the values of the last step written and the step with the

@@ -14,14 +14,20 @@ struct RunOptions {
   int threads = 0;               // OpenMP threads; 0 keeps the default
   bool quiet = false;            // no progress line
   bool newton_log = false;       // one line per Newton iteration (t, iteration, |r|) on stderr
+  // Continue from the checkpoint in the output directory (run/checkpoint.hpp) instead of starting anew.
+  bool restart = false;
 };
 
 struct RunSummary {
   solve::ContinuationResult result;
   double wall_seconds = 0.0;
   std::string directory;
+  int interrupted_by = 0;  // SIGINT or SIGTERM if a signal ended the run (result.outcome: interrupted)
 };
 
+// Runs the case into the output directory (a new run clears an earlier run's files there; a restart
+// continues them). SIGINT and SIGTERM end the run after the current step's output and a checkpoint are
+// written (run/interrupt.hpp). InputError for bad input, including a checkpoint that does not fit.
 RunSummary run_case(casefile::Case& c, const RunOptions& options);
 
 // The continuation method the case's `steps` block chose, with its controls (verbose: a line per Newton

@@ -12,12 +12,6 @@
 namespace fibrane::solve {
 
 // A tangent of the path at a converged state, not normalised: K dq + r_t dt = 0.
-struct ArcLength::Tangent {
-  Eigen::VectorXd dq;
-  double dt = 1.0;
-  int negative_eigenvalues = -1;  // of K at the state, from the solver (-1: unknown)
-};
-
 // One attempt at a step: the corrector's outcome.
 struct ArcLength::Attempt {
   bool converged = false;
@@ -71,7 +65,12 @@ MethodState ArcLength::save() const {
           {"steps", {static_cast<double>(steps_)}}, {"have_prev", {have_prev_ ? 1.0 : 0.0}},
           {"dq_prev", std::vector<double>(dq_prev_.data(), dq_prev_.data() + dq_prev_.size())},
           {"dt_prev", {dt_prev_}}, {"tangent_dt_sign", {static_cast<double>(tangent_dt_sign_)}},
-          {"negative_eigenvalues", {static_cast<double>(inertia_prev_)}}};
+          {"negative_eigenvalues", {static_cast<double>(inertia_prev_)}},
+          {"have_tangent", {have_tangent_ ? 1.0 : 0.0}},
+          {"tangent_dq", std::vector<double>(tangent_.dq.data(), tangent_.dq.data() + tangent_.dq.size())},
+          {"tangent_dt", {tangent_.dt}},
+          {"tangent_negative_eigenvalues", {static_cast<double>(tangent_.negative_eigenvalues)}},
+          {"sign_disagreements", {static_cast<double>(disagreements_)}}};
 }
 
 void ArcLength::restore(const MethodState& s) {
@@ -84,6 +83,15 @@ void ArcLength::restore(const MethodState& s) {
   dt_prev_ = value("dt_prev");
   tangent_dt_sign_ = static_cast<int>(value("tangent_dt_sign"));
   inertia_prev_ = static_cast<int>(value("negative_eigenvalues"));
+  // A state without the tangent (e.g. one assembled by hand) has it recomputed at the restored state.
+  have_tangent_ = s.count("have_tangent") && value("have_tangent") != 0.0;
+  if (have_tangent_) {
+    const auto& tq = s.at("tangent_dq");
+    tangent_.dq = Eigen::Map<const Eigen::VectorXd>(tq.data(), static_cast<Eigen::Index>(tq.size()));
+    tangent_.dt = value("tangent_dt");
+    tangent_.negative_eigenvalues = static_cast<int>(value("tangent_negative_eigenvalues"));
+  }
+  disagreements_ = s.count("sign_disagreements") ? static_cast<int>(value("sign_disagreements")) : 0;
   restored_ = true;
 }
 
@@ -434,13 +442,17 @@ ContinuationResult ArcLength::run(NonlinearSystem& sys, Eigen::VectorXd& q, Line
     have_prev_ = false;
     tangent_dt_sign_ = 0;
     inertia_prev_ = -1;
+    have_tangent_ = false;
   }
   ContinuationResult res;
   res.t_reached = t_;
   res.steps = steps_;
   if (!restored_ && !start_in_equilibrium(sys, q, solver, on_step, res)) return res;
-  Tangent tangent;
-  for (bool have_tangent = false;;) {
+  Tangent& tangent = tangent_;
+  bool& have_tangent = have_tangent_;
+  if (have_tangent && tangent.dq.size() != q.size())
+    throw std::invalid_argument("ArcLength::run: the restored tangent has the wrong size");
+  for (;;) {
     if (res.steps >= ac.max_steps) {
       res.outcome = Outcome::max_steps;
       res.message = "stopped after max_steps = " + std::to_string(ac.max_steps) + " steps";

@@ -53,6 +53,7 @@ enum class Outcome {
   limit_point,   // load stepping could not pass a limit point and the case accepts that as the end
   max_steps,     // the step budget ran out
   failed,        // a step failed below the smallest allowed step
+  interrupted,   // the run driver ended the run on a signal (SIGINT, SIGTERM)
 };
 const char* outcome_name(Outcome o);
 
