@@ -80,6 +80,9 @@ def plot_path(ax, path, limits, dynamic):
                     xytext=(6, -12 if lp["kind"] == "maximum" else 6), color="C3")
     if dynamic is not None:
         ax.plot(dynamic["end_z"], dynamic["reaction_z"], color="C1", lw=0.8, alpha=0.8, label="dynamic run (lowering)")
+    # The window of the quasi-static path; the dynamic run's ends press on below z0 (forces down to ~-10).
+    ax.set_xlim(u.min() - 0.05, u.max() + 0.02)
+    ax.set_ylim(-1.0, 1.3 * f.max())
     ax.set_xlabel("height of the beam ends $z$ (membrane mid-surface: 0)")
     ax.set_ylabel("support force of the ends $R_z$")
     ax.axhline(0, color="0.6", lw=0.5)
