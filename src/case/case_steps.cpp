@@ -66,7 +66,7 @@ void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>
     d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
   }
   if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
-  if (auto v = node->optional("error_tolerance")) d.error_tolerance = v->in_range(0.0, 1.0, false, true);
+  if (auto v = node->optional("error_tolerance")) d.error_tolerance = v->in_range(0.0, 1.0, true, false);
   if (auto v = node->optional("energy_tolerance")) d.energy_tolerance = v->positive();
   if (auto v = node->optional("start")) {
     const std::string start = v->as_choice({"rest", "equilibrium", "static"});
