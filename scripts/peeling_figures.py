@@ -129,8 +129,8 @@ def characteristic(h, limits):
     "before" and "pulloff"; "peak": the first local maximum of the total reaction (where it first drops by
     1 % below its running maximum), "min": the minimum of the reaction between the peak and pull-off;
     "lowest": the row nearest to the second limit point (the minimum of t at the end of the unstable
-    branch); "detached": the first row after pull-off with a reaction below 1 % of the peak (None if the run
-    ended before)."""
+    branch); "detached": the first row after pull-off with a reaction below 1 % of the largest reaction of
+    the path (None if the run ended before)."""
     f, t = h["reaction_total_z"], h["t"]
     rows = {int(s): i for i, s in enumerate(h["step"])}
     maxima = [lp for lp in limits if lp["kind"] == "maximum"]
@@ -141,7 +141,7 @@ def characteristic(h, limits):
     minimum = peak + int(np.argmin(f[peak:max(pull, peak + 1)]))
     minima = [lp for lp in limits if lp["kind"] == "minimum" and maxima and lp["step"] > maxima[0]["step"]]
     lowest = rows[minima[0]["step"]] - 1 if minima else None
-    gone = np.nonzero(f[pull:] < 0.01 * f[peak])[0]
+    gone = np.nonzero(f[pull:] < 0.01 * f.max())[0]
     return {"peak": peak, "min": minimum, "pulloff": pull, "before": max(pull - 1, 0), "lowest": lowest,
             "detached": pull + int(gone[0]) if gone.size else None, "limit_found": bool(maxima)}
 
@@ -181,6 +181,7 @@ def summarize(results, names):
             "t_lowest": lows[0]["t"] if lows else None,
             "f_lowest": lows[0]["values"]["reaction_total_z"] if lows else None,
             "t_detached": h["t"][c["detached"]] if c["detached"] is not None else None,
+            "f_detached_at_pulloff": jump_target(h, limits),  # where a displacement-controlled pull lands
             "final_reaction_fraction": float(h["reaction_total_z"][-1] / f_peak),
             "unstable_steps": int(np.sum(h["negative_eigenvalues"] > 0)),
             "max_end_reaction_difference": float(np.max(np.abs(h["reaction_start_z"] - h["reaction_end_z"]))),
