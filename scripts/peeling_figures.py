@@ -6,7 +6,8 @@
 Every variant is a text edit of examples/peeling.yaml (arc-length continuation through pull-off to the
 detached beam), run into results/peeling/<variant>/ (a variant whose summary.json says "completed" is not
 run again, so an interrupted call resumes). The curves show the whole path: stable stretches solid, the
-unstable branch (negative eigenvalues of the tangent, history.csv) dashed; pull-off is the first limit point
+unstable branch (negative eigenvalues of the tangent, history.csv; where the solver does not count them,
+the stretch between the two limit points) dashed; pull-off is the first limit point
 (maximum of t) of summary.json's limit_points. The PNGs go to docs/figures/, the characteristic values of
 every run to results/peeling/characteristics.{json,md}.
 --quick uses coarse meshes and shorter arc-length steps (a smoke test of the whole chain, runs and PNGs into
@@ -182,8 +183,8 @@ def summarize(results, names):
             "f_lowest": lows[0]["values"]["reaction_total_z"] if lows else None,
             "t_detached": h["t"][c["detached"]] if c["detached"] is not None else None,
             "f_detached_at_pulloff": jump_target(h, limits),  # where a displacement-controlled pull lands
-            "final_reaction_fraction": float(h["reaction_total_z"][-1] / f_peak),
-            "unstable_steps": int(np.sum(h["negative_eigenvalues"] > 0)),
+            "final_reaction_fraction": float(h["reaction_total_z"][-1] / h["reaction_total_z"].max()),
+            "unstable_steps": int(np.sum(unstable_rows(h, limits))),
             "max_end_reaction_difference": float(np.max(np.abs(h["reaction_start_z"] - h["reaction_end_z"]))),
             "steps": int(h["step"][-1]), "newton_iterations": s.get("newton_iterations"),
             "message": s.get("message"), "wall_seconds": s.get("wall_seconds"), "completed": s.get("completed"),
@@ -207,7 +208,8 @@ def summarize(results, names):
 def jump_target(h, limits):
     """The reaction of the detached beam at the pull-off instant: where the stable branch after the second
     limit point (the minimum of t) passes t_pull-off, i.e. where a displacement-controlled pull lands when
-    it jumps at pull-off (None if the path does not get there)."""
+    it jumps at pull-off; the last reaction of the run if it stopped before getting there (an upper bound);
+    None without a second limit point."""
     pull = [lp for lp in limits if lp["kind"] == "maximum"]
     low = [lp for lp in limits if lp["kind"] == "minimum" and pull and lp["step"] > pull[0]["step"]]
     if not low:
@@ -218,14 +220,32 @@ def jump_target(h, limits):
         if (t[i] - pull[0]["t"]) * (t[i + 1] - pull[0]["t"]) <= 0 and t[i] != t[i + 1]:
             w = (pull[0]["t"] - t[i]) / (t[i + 1] - t[i])
             return f[i] + w * (f[i + 1] - f[i])
-    return None
+    # the run stopped (reaction below 0.5 % of its peak) before the detached branch reached t_pull-off: the
+    # reaction there is below the last one (it decays as the lift grows), which is drawn
+    return f[-1] if t[-1] < pull[0]["t"] and t[-1] > t[start] else None
+
+
+def unstable_rows(h, limits):
+    """True for the rows of history.csv on an unstable branch: a negative eigenvalue of the tangent; where
+    the linear solver does not count them (negative_eigenvalues = -1: the LU of RF1's unsymmetric
+    tangent), the rows from the pull-off limit point (maximum of t) up to the next limit point (minimum of
+    t): the tangent's determinant changes sign at each limit point."""
+    neg = h["negative_eigenvalues"]
+    between = np.zeros(len(neg), dtype=bool)
+    steps = list(h["step"].astype(int))
+    pull = [lp for lp in limits if lp["kind"] == "maximum"]
+    if pull:
+        low = [lp for lp in limits if lp["kind"] == "minimum" and lp["step"] > pull[0]["step"]]
+        end = steps.index(low[0]["step"]) if low else len(neg)
+        between[steps.index(pull[0]["step"]):end] = True
+    return np.where(neg >= 0, neg > 0, between)
 
 
 def plot_path(ax, h, limits, label, color, rows=None):
     """The total reaction vs t along the path: stable stretches solid, the unstable branch dashed (a segment
     with an end where the tangent has negative eigenvalues), the pull-off limit point as a circle and the
     jump of a displacement-controlled pull from there to the detached beam dotted."""
-    t, f, unstable = h["t"], h["reaction_total_z"], h["negative_eigenvalues"] > 0
+    t, f, unstable = h["t"], h["reaction_total_z"], unstable_rows(h, limits)
     rows = list(rows if rows is not None else range(len(t)))
     dashed = [False] + [bool(unstable[rows[j - 1]] or unstable[rows[j]]) for j in range(1, len(rows))]
     # segment j runs from rows[j - 1] to rows[j]; runs of segments of one style are drawn as one line
