@@ -265,9 +265,9 @@ def plot_path(ax, h, limits, label, color, rows=None):
             ax.plot([x, x], [y, target], ":", color=color, lw=1.0)
 
 
-def plot_reactions(ax, results, entries, quick, zoom=None, window=None, title=None):
-    """Reaction curves of the runs `entries` (name, label); zoom: only the start up to t = zoom; window:
-    (t_low, t_high) x limits."""
+def plot_reactions(ax, results, entries, quick, zoom=None, window=None, ylim=None, title=None):
+    """Reaction curves of the runs `entries` (name, label); zoom: only the start up to t = zoom; window,
+    ylim: (low, high) limits of t and of the force."""
     drawn = 0
     for k, (name, label) in enumerate(entries):
         d = results / alias(name, quick)
@@ -282,6 +282,8 @@ def plot_reactions(ax, results, entries, quick, zoom=None, window=None, title=No
         drawn += 1
     if window:
         ax.set_xlim(*window)
+    if ylim:
+        ax.set_ylim(*ylim)
     if zoom:
         ax.set_xlim(0, zoom)
     ax.axhline(0, color="0.6", lw=0.5)
@@ -333,9 +335,11 @@ def figures(results, figdir, quick, table):
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     formulations = [("formulation_FF", "FF"), ("formulation_RF1", "RF1"), ("formulation_RF2", "RF2")]
     plot_reactions(axes[0], results, formulations, quick, title="a) complete path")
-    t_pull = table.get(alias("formulation_FF", quick), {}).get("t_pulloff") or 0.125
-    plot_reactions(axes[1], results, formulations, quick, window=(0.8 * t_pull, 1.03 * t_pull),
-                   title="b) near pull-off")
+    pulls = [table[alias(n, quick)] for n, _ in formulations if table.get(alias(n, quick), {}).get("t_pulloff")]
+    if pulls:
+        t_pull, f_pull = pulls[0]["t_pulloff"], [r["f_pulloff"] for r in pulls]
+        plot_reactions(axes[1], results, formulations, quick, window=(0.9 * t_pull, 1.02 * t_pull),
+                       ylim=(0.9 * min(f_pull), 1.01 * max(f_pull)), title="b) near pull-off")
     save(fig, figdir / "peeling_fig18_formulations.png")
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
