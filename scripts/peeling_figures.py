@@ -34,7 +34,8 @@ BASE_MESH = ("elements: 100", "elements: [20, 10]")
 MESHES = {"50x10x5": (50, 10, 5), "100x20x10": (100, 20, 10), "150x30x15": (150, 30, 15)}
 QUICK_MESHES = {"20x6x4": (20, 6, 4), "30x8x4": (30, 8, 4), "40x10x6": (40, 10, 6)}
 # The paper's finest mesh, 200 x 40 x 20, needs ~8 s per Newton iteration with one thread on the shared
-# 2-core build machine (~1 h to pull-off, docs/examples.md); 150 x 30 x 15 is the finest used here.
+# 2-core build machine (~40 min for the ~300 iterations of the path, docs/examples.md); 150 x 30 x 15 is the
+# finest used here.
 
 
 def mesh_edits(beam, shell_u, shell_v):
