@@ -1,11 +1,12 @@
-// `fibrane run CASE.yaml [-o OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`; in builds with
-// PETSc also `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs distributed
-// (run_mpi.cpp).
+// `fibrane run CASE.yaml [-o OUTDIR | --restart OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`;
+// in builds with PETSc also `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs
+// distributed (run_mpi.cpp).
 #include <algorithm>
 #include <iostream>
 #include <memory>
 
 #include "commands.hpp"
+#include "common/error.hpp"
 #include "case/case_reader.hpp"
 #include "run/run.hpp"
 #include "run_mpi.hpp"
@@ -27,7 +28,11 @@ void register_run_command(CLI::App& app) {
   auto opt = std::make_shared<RunCommandOptions>();
   auto* cmd = app.add_subcommand("run", "Run a case file: continuation to the end time, writing results");
   cmd->add_option("case", opt->case_file, "YAML case file (see docs/case-format.md)")->required();
-  cmd->add_option("-o,--output", opt->run.output_directory, "Output directory (default: the case's output.directory)");
+  auto* output = cmd->add_option("-o,--output", opt->run.output_directory,
+                                 "Output directory (default: the case's output.directory); an earlier run's files there are replaced");
+  cmd->add_option("--restart", opt->restart_directory,
+                  "Continue the run whose output (and checkpoint.bin) is in this directory, from its last checkpoint")
+      ->excludes(output);
   cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
@@ -41,15 +46,23 @@ void register_run_command(CLI::App& app) {
         ->check(CLI::IsMember({"mumps", "gmres"}));
   cmd->callback([opt]() {
     if (mpi_available()) {
+      if (!opt->restart_directory.empty())
+        throw InputError("--restart: builds with PETSc run every case through the distributed driver, which "
+                         "writes no checkpoints; restart with a build without FIBRANE_PETSC");
       run_mpi(*opt);
       return;
     }
     // Reading the whole case first: bad input stops here, before any output file exists.
     casefile::Case c = casefile::read_case(opt->case_file);
     apply_max_steps(c, *opt);
+    if (!opt->restart_directory.empty()) {
+      opt->run.output_directory = opt->restart_directory;
+      opt->run.restart = true;
+    }
     const auto s = run::run_case(c, opt->run);
     report(s);
-    if (!s.result.completed()) throw CLI::RuntimeError(1);
+    // Interrupted: the shell's convention 128 + signal (130 for SIGINT, 143 for SIGTERM).
+    if (!s.result.completed()) throw CLI::RuntimeError(s.interrupted_by ? 128 + s.interrupted_by : 1);
   });
 }
 

@@ -12,6 +12,7 @@ struct RunCommandOptions {
   run::RunOptions run;
   int max_steps = 0;       // --max-steps: bounds the case's steps.max_steps; 0 keeps it
   std::string mpi_solver;  // "mumps" or "gmres": the distributed solver; empty: by the process count
+  std::string restart_directory;  // --restart: continue the run in this directory (serial builds only)
 };
 
 // Lowers the case's steps.max_steps to options.max_steps when that is set and smaller.

@@ -68,10 +68,18 @@ def run_all(todo, run_variant, jobs):
 
 
 def read_csv(path):
-    """A CSV file of numbers as a dict of column name -> numpy array."""
+    """The numeric columns of a CSV file as a dict of column name -> numpy array (text columns, such as the
+    interaction CSV's status, are left out; "nan" entries are numbers)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+    def numeric(k):
+        try:
+            [float(r[k]) for r in rows]
+            return True
+        except ValueError:
+            return False
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0] if numeric(k)}
 
 
 def save(fig, path, dpi=90):

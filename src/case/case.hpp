@@ -16,6 +16,9 @@ struct OutputSettings {
   bool vtk = true;
   int vtk_every = 1;      // write VTK every n-th converged step (and always the last)
   int samples = 4;        // sampling points per element edge for the sampled VTK files
+  // Write the restart checkpoint every n-th converged step (0: only when a run is interrupted or runs out
+  // of steps); run/checkpoint.hpp.
+  int checkpoint_every = 1;
   // Which VTK files a body gets: exact Bezier cells (geometry, displacement, twist) as <body>.pvd,
   // sampled cells with the section forces and moments as <body>_sampled.pvd, or both.
   bool bezier = true, sampled = true;

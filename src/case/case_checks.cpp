@@ -69,7 +69,7 @@ void check_monitor_names(const model::Model& m, const io::YamlNode& root) {
     if (builtin.count(m.monitors[i]->name()))
       node.fail("a monitor name other than the built-in history columns (step, t, load_factor, iterations, "
                 "residual, negative_eigenvalues, limit_point, strain_energy, <interaction>_energy, "
-                "<interaction>_force_x/y/z, and the energy account of dynamic runs)");
+                "<interaction>_force_x/y/z, <interaction>_lost_points, and the energy account of dynamic runs)");
     if (!seen.insert(m.monitors[i]->name()).second) node.fail("a monitor name not used before");
   }
 }

@@ -1,5 +1,6 @@
 #include "case/case_geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -7,6 +8,8 @@
 #include <fmt/format.h>
 
 #include "case/case_limits.hpp"
+#include "common/format.hpp"
+#include "spline/refinement.hpp"
 #include "spline/shapes.hpp"
 
 namespace fibrane::casefile {
@@ -78,11 +81,76 @@ double refined_control_points(int existing, int degree, int continuity, int n) {
   return static_cast<double>(n + existing) * (degree - continuity) + continuity + 1;
 }
 
+// Largest ratio of the longest to the shortest element of a geometric grading.
+constexpr double kMaxGradingSpread = 1e6;
+
+// A direction's grading: `grid` holds the interior parameter values of the graded grid; empty: uniform.
+struct Grading {
+  std::vector<double> grid;
+};
+
+// One direction of a refine block's `grading`: {ratio: r} (element lengths growing by the factor r from
+// the start of the parameter domain [a, b] to its end) or {knots: [...]} (the interior knots, increasing,
+// inside (a, b)). `count` is the element count of `elements` for this direction: explicit knots must make
+// as many elements.
+Grading read_grading(const io::YamlNode& node, int count, double a, double b, const std::string& direction) {
+  if (!node.is_map()) node.fail("{ratio: r} or {knots: [interior knots]}");
+  Grading g;
+  if (node.has("ratio") == node.has("knots")) node.fail("one of 'ratio' or 'knots'");
+  if (auto r = node.optional("ratio")) {
+    const double ratio = r->positive();
+    const double spread = std::pow(std::max(ratio, 1.0 / ratio), count - 1);
+    if (!(spread <= kMaxGradingSpread))
+      r->fail(fmt::format("a ratio whose {} elements{} differ in length by at most a factor {:g} (ratio^{} = {:.3g})",
+                          count, direction, kMaxGradingSpread, count - 1, spread));
+    if (ratio != 1.0) g.grid = spline::geometric_grid(a, b, count, ratio);
+  } else {
+    const auto k = node["knots"];
+    g.grid = k.as_doubles();
+    const double tol = 1e-12 * (b - a);
+    for (std::size_t i = 0; i < g.grid.size(); ++i) {
+      const double lo = i == 0 ? a : g.grid[i - 1];
+      if (!(g.grid[i] > lo + tol && g.grid[i] < b - tol))
+        k.fail(fmt::format("increasing interior knots strictly inside the parameter domain ({}, {})", format_number(a),
+                           format_number(b)));
+    }
+    if (static_cast<int>(g.grid.size()) + 1 != count)
+      k.fail_message(fmt::format("{} interior knots make {} elements, but 'elements' asks for {}{}: give {} knots or "
+                                 "set the element count to {}",
+                                 g.grid.size(), g.grid.size() + 1, count, direction, count - 1, g.grid.size() + 1));
+  }
+  node.reject_unknown_keys();
+  return g;
+}
+
+// The gradings of a refine block: `grading: {ratio | knots}` for a beam, `grading: {u: {...}, v: {...}}`
+// (either optional) for a shell; `domain(d)` is the parameter domain of direction d.
+template <class Domain>
+std::vector<Grading> read_gradings(const io::YamlNode& refine, const std::vector<int>& counts, Domain&& domain) {
+  const int dims = static_cast<int>(counts.size());
+  std::vector<Grading> out(dims);
+  const auto node = refine.optional("grading");
+  if (!node) return out;
+  if (dims == 1) {
+    const auto [a, b] = domain(0);
+    out[0] = read_grading(*node, counts[0], a, b, "");
+    return out;
+  }
+  if (!node->is_map()) node->fail("a map with the keys u and/or v");
+  for (int d = 0; d < 2; ++d)
+    if (auto dir = node->optional(d == 0 ? "u" : "v")) {
+      const auto [a, b] = domain(d);
+      out[d] = read_grading(*dir, counts[d], a, b, d == 0 ? " along u" : " along v");
+    }
+  node->reject_unknown_keys();
+  return out;
+}
+
 // `size(degree, continuity, counts)` estimates the refined body's size; it is checked against the machine's
-// memory together with `others` before `apply` refines.
-template <class Size, class Refine>
+// memory together with `others` before `apply(direction, degree, continuity, count, grading)` refines.
+template <class Size, class Domain, class Refine>
 void apply_refinement(const std::optional<io::YamlNode>& refine, int dims, const ModelSize& others, Size&& size,
-                      Refine&& apply) {
+                      Domain&& domain, Refine&& apply) {
   if (!refine) return;
   const int degree = read_degree((*refine)["degree"]);
   const int continuity = (*refine).get("continuity", degree - 1);
@@ -91,12 +159,13 @@ void apply_refinement(const std::optional<io::YamlNode>& refine, int dims, const
                                  std::to_string(degree - 1) + "]");
   const auto elements = (*refine)["elements"];
   const std::vector<int> counts = read_element_counts(elements, dims);
+  const std::vector<Grading> gradings = read_gradings(*refine, counts, domain);
   refine->reject_unknown_keys();
   ModelSize total = others;
   total += size(degree, continuity, counts);
   check_fits(total, elements);
   try {
-    for (int d = 0; d < dims; ++d) apply(d, degree, continuity, counts[d]);
+    for (int d = 0; d < dims; ++d) apply(d, degree, continuity, counts[d], gradings[d]);
   } catch (const std::invalid_argument& e) {
     refine->fail_message(std::string("cannot refine: ") + e.what());
   }
@@ -151,7 +220,13 @@ spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io:
     return shell_size(refined_control_points(e0, p, c, n[0]) * refined_control_points(e1, p, c, n[1]),
                       static_cast<double>(n[0] + e0) * (n[1] + e1), p, p, p + 1);
   };
-  apply_refinement(refine, 2, others, size, [&](int d, int p, int c, int n) { surface.refine(d, p, c, n); });
+  auto domain = [&](int d) { return std::make_pair(surface.knots(d).front(), surface.knots(d).back()); };
+  apply_refinement(refine, 2, others, size, domain, [&](int d, int p, int c, int n, const Grading& g) {
+    if (g.grid.empty())
+      surface.refine(d, p, c, n);
+    else
+      surface.refine(d, p, c, g.grid);
+  });
   check_surface_metric(surface, g);
   return surface;
 }
@@ -198,7 +273,13 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
     const int e = curve.knots().num_elements();
     return beam_size(refined_control_points(e, p, c, n[0]), n[0] + e, p, p + 1);
   };
-  apply_refinement(refine, 1, others, size, [&](int, int p, int c, int n) { curve.refine(p, c, n); });
+  auto domain = [&](int) { return std::make_pair(curve.knots().front(), curve.knots().back()); };
+  apply_refinement(refine, 1, others, size, domain, [&](int, int p, int c, int n, const Grading& g) {
+    if (g.grid.empty())
+      curve.refine(p, c, n);
+    else
+      curve.refine(p, c, g.grid);
+  });
   check_curve_metric(curve, g);
   return curve;
 }

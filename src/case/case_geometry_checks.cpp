@@ -1,12 +1,14 @@
 // Checks of a body's reference geometry that the element kernels rely on: a regular parametrisation (no
 // collapsed edge, pole or zero-area element of a shell, no zero-speed point of a beam axis), a beam
-// director that is not tangent to the axis, and a beam section that is thin compared with the beam.
+// director that is not tangent to the axis, a beam section that is thin compared with the beam, and no C0
+// interior knot (a hinge) unless the body allows kinks.
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "case/case_geometry.hpp"
+#include "common/format.hpp"
 #include "common/gauss_legendre.hpp"
 
 namespace fibrane::casefile {
@@ -115,6 +117,44 @@ void check_director(const spline::NurbsCurve& c, const Eigen::Vector3d& director
         node.fail_message(fmt::format("the director is parallel to the beam axis at xi = {:g}: it must have a "
                                       "component normal to the axis everywhere",
                                       xi));
+    }
+  }
+}
+
+
+void check_no_kinks(const std::vector<const spline::KnotVector*>& directions, const io::YamlNode& body,
+                    const std::string& kind) {
+  const bool shell = kind == "shell";
+  if (shell && body.get("allow_kinks", false)) return;
+  const auto refine = body.optional("refine");
+  // Refined to C0 elements: continuity 0, given or the default of degree 1.
+  const bool c0_refine = refine && refine->get("continuity", (*refine)["degree"].as_int() - 1) == 0;
+  for (std::size_t d = 0; d < directions.size(); ++d) {
+    const spline::KnotVector& kv = *directions[d];
+    for (double u : kv.unique_knots()) {
+      const int m = kv.multiplicity(u);
+      if (u == kv.front() || u == kv.back() || m < kv.degree()) continue;
+      const std::string at = shell ? fmt::format("knot line {} = {}", d == 0 ? "u" : "v", format_number(u))
+                                   : fmt::format("knot xi = {}", format_number(u));
+      const std::string what = shell ? "a crease that the rotation-free Kirchhoff-Love shell treats as a hinge (no "
+                                       "bending moment crosses it)"
+                                     : "a kink where the bending energy has no stiffness (a hinge: the tangent is "
+                                       "singular); a beam needs a C1 axis";
+      const std::string fix = c0_refine ? "refine with continuity >= 1 (and degree >= 2)"
+                                        : "use a geometry without C0 knots (arcs, cylinders and spheres of less than "
+                                          "360 degrees are C1; a 'nurbs' knot repeated 'degree' times is C0)";
+      const io::YamlNode where = !c0_refine                 ? body["geometry"]
+                                 : refine->has("continuity") ? (*refine)["continuity"]
+                                                             : (*refine)["degree"];
+      const std::string name = body["name"].as_string();
+      if (shell)
+        where.fail_message(fmt::format("shell '{}': the surface is only C0 at the interior {} (multiplicity {} = "
+                                       "degree {}): {}. Either {}, or, to keep the hinge on purpose, set "
+                                       "'allow_kinks: true' on the shell",
+                                       name, at, m, kv.degree(), what, fix));
+      where.fail_message(fmt::format("beam '{}': the axis is only C0 at the interior {} (multiplicity {} = degree {}): "
+                                     "{}: {}",
+                                     name, at, m, kv.degree(), what, fix));
     }
   }
 }

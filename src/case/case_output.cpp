@@ -29,6 +29,8 @@ void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, c
   }
   out.vtk = node->get("vtk", out.vtk);
   out.vtk_every = int_in(*node, "vtk_every", 1, 100'000'000, out.vtk_every, "write VTK every n-th step");
+  out.checkpoint_every = int_in(*node, "checkpoint_every", 0, 100'000'000, out.checkpoint_every,
+                                "write the restart checkpoint every n-th step (0: only on interruption)");
   out.samples = int_in(*node, "samples", 1, kMaxSamples, out.samples, "sampling points per element edge");
   if (auto cells = node->optional("vtk_cells")) {
     const std::string which = cells->as_choice({"bezier", "sampled", "both"});

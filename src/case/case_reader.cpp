@@ -77,6 +77,7 @@ void read_shell(Model& m, const io::YamlNode& node) {
   auto surface = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
     return read_surface(g, r, model_size(m));
   });
+  check_no_kinks({&surface.knots(0), &surface.knots(1)}, node, "shell");
   shell::ShellSection section;
   section.thickness = node["thickness"].positive();
   const auto mat = node["material"];
@@ -123,6 +124,7 @@ void read_beam(Model& m, const io::YamlNode& node) {
   auto curve = read_geometry(node, [&](const io::YamlNode& g, const std::optional<io::YamlNode>& r) {
     return read_curve(g, r, model_size(m));
   });
+  check_no_kinks({&curve.knots()}, node, "beam");
   const auto mat = node["material"];
   const double young = mat["young"].positive();
   const double poisson = mat["poisson"].in_range(-1.0, 0.5, true, true);

@@ -54,7 +54,7 @@ void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNod
   node->reject_unknown_keys();
 }
 
-// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, start: rest | equilibrium}.
+// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, error_tolerance, energy_tolerance, start: rest | equilibrium | static}.
 void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>& node) {
   if (!node) return;
   if (node->has("rho_inf") && node->has("scheme"))
@@ -66,9 +66,14 @@ void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>
     d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
   }
   if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
-  if (auto v = node->optional("start"))
-    d.start = v->as_choice({"rest", "equilibrium"}) == "rest" ? solve::TransientOptions::Start::rest
-                                                               : solve::TransientOptions::Start::solve;
+  if (auto v = node->optional("error_tolerance")) d.error_tolerance = v->in_range(0.0, 1.0, true, false);
+  if (auto v = node->optional("energy_tolerance")) d.energy_tolerance = v->positive();
+  if (auto v = node->optional("start")) {
+    const std::string start = v->as_choice({"rest", "equilibrium", "static"});
+    d.start = start == "rest"     ? solve::TransientOptions::Start::rest
+              : start == "static" ? solve::TransientOptions::Start::static_equilibrium
+                                  : solve::TransientOptions::Start::solve;
+  }
   node->reject_unknown_keys();
 }
 

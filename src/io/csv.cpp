@@ -8,7 +8,11 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
+
+#include "common/error.hpp"
 
 namespace fibrane::io {
 
@@ -30,17 +34,47 @@ std::string csv_field(const std::string& text) {
   return quoted + "\"";
 }
 
+namespace {
+
+std::string header_line(const std::vector<std::string>& columns) {
+  std::string header;
+  for (std::size_t i = 0; i < columns.size(); ++i) {
+    if (i > 0) header += ',';
+    header += csv_field(columns[i]);
+  }
+  return header;
+}
+
+}  // namespace
+
 CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns)
     : path_(std::move(path)), columns_(std::move(columns)) {
   if (columns_.empty()) throw std::invalid_argument(path_ + ": a CSV file needs at least one column");
   fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot create: {}", path_, std::strerror(errno)));
-  std::string header;
-  for (std::size_t i = 0; i < columns_.size(); ++i) {
-    if (i > 0) header += ',';
-    header += csv_field(columns_[i]);
+  write_line(header_line(columns_));
+}
+
+CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns, std::size_t keep_rows)
+    : path_(std::move(path)), columns_(std::move(columns)) {
+  const std::string header = header_line(columns_);
+  std::ifstream in(path_, std::ios::binary);
+  if (!in) throw InputError(path_ + ": cannot continue it: the file cannot be read");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.compare(0, header.size() + 1, header + "\n") != 0)
+    throw InputError(path_ + ": cannot continue it: its header is not this case's history columns");
+  std::size_t end = header.size() + 1;
+  for (std::size_t k = 0; k < keep_rows; ++k) {
+    const std::size_t newline = text.find('\n', end);
+    if (newline == std::string::npos)
+      throw InputError(fmt::format("{}: cannot continue it: it has {} complete rows, the checkpoint needs {}", path_,
+                                   k, keep_rows));
+    end = newline + 1;
   }
-  write_line(header);
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(end)) != 0)
+    throw std::runtime_error(fmt::format("{}: cannot continue it: {}", path_, std::strerror(errno)));
+  rows_ = keep_rows;
 }
 
 CsvWriter::~CsvWriter() {

@@ -18,6 +18,10 @@ class CsvWriter {
  public:
   // Creates (truncates) `path` and writes the header line.
   CsvWriter(std::string path, std::vector<std::string> columns);
+  // Continues an existing file (a restarted run): its header must name `columns`; its first `keep_rows`
+  // rows are kept, anything after them is cut off, and rows() appends. Throws InputError naming the file
+  // if the header differs or it has fewer complete rows.
+  CsvWriter(std::string path, std::vector<std::string> columns, std::size_t keep_rows);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;

@@ -267,6 +267,11 @@ void write_vtu(const std::string& path, const VtuMesh& mesh, VtuEncoding encodin
 
 PvdCollection::PvdCollection(std::string pvd_path) : path_(std::move(pvd_path)) { write(); }
 
+PvdCollection::PvdCollection(std::string pvd_path, std::vector<Entry> entries)
+    : path_(std::move(pvd_path)), entries_(std::move(entries)) {
+  write();
+}
+
 void PvdCollection::add(double time, const std::string& vtu_relative_path, int part) {
   entries_.push_back({time, part, vtu_relative_path});
   write();

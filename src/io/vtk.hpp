@@ -83,18 +83,23 @@ std::string base64_encode(const void* data, std::size_t size);
 // rewritten atomically after every add(), so it is valid while the run is still going.
 class PvdCollection {
  public:
-  explicit PvdCollection(std::string pvd_path);
-  // `vtu_relative_path` is relative to the directory of the .pvd file.
-  void add(double time, const std::string& vtu_relative_path, int part = 0);
-  const std::string& path() const { return path_; }
-  std::size_t size() const { return entries_.size(); }
-
- private:
+  // One data set of the collection.
   struct Entry {
     double time;
     int part;
     std::string file;
   };
+  explicit PvdCollection(std::string pvd_path);
+  // Continues a series (a restarted run): writes the file with `entries`.
+  PvdCollection(std::string pvd_path, std::vector<Entry> entries);
+  // `vtu_relative_path` is relative to the directory of the .pvd file.
+  void add(double time, const std::string& vtu_relative_path, int part = 0);
+  const std::string& path() const { return path_; }
+  std::size_t size() const { return entries_.size(); }
+
+  const std::vector<Entry>& entries() const { return entries_; }
+
+ private:
   void write() const;
 
   std::string path_;

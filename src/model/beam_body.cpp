@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
@@ -19,15 +20,15 @@ BeamBody::BeamBody(std::string n, spline::NurbsCurve c, beam::BeamSection s, Eig
   const auto& kv = curve.knots();
   const int p = curve.degree();
   // The bending energy (Eq. 46) needs a C1 axis: at a C0 knot the displacement field may kink at no cost,
-  // a hinge that makes the tangent singular. Arcs above 90 degrees carry such a joint (double knot of
-  // the quadratic arc, which degree elevation keeps at C0).
+  // a hinge that makes the tangent singular (the case reader rejects such axes with a located message
+  // first: casefile::check_no_kinks).
   const auto unique = kv.unique_knots();
   for (std::size_t k = 1; k + 1 < unique.size(); ++k)
     if (kv.multiplicity(unique[k]) >= p)
       throw InputError("beam '" + name_ + "': the axis is only C0 at xi = " + format_number(unique[k]) +
                        " (a knot of multiplicity " + std::to_string(kv.multiplicity(unique[k])) + " for degree " +
-                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of at most 90 degrees "
-                       "or a NURBS axis without C0 knots (one rational quadratic piece spans arcs below 180)");
+                       std::to_string(p) + "); a Bernoulli-Euler beam needs a C1 axis: use an arc of less than 360 "
+                       "degrees or a NURBS axis without C0 knots");
   for (int span : kv.element_spans()) {
     BeamElement e;
     e.span = span;
@@ -184,6 +185,22 @@ void BeamBody::accept(const State& state) {
       beam::update_point_state(states[e][i], basis_matrix(curve.basis(xi, 2)), q);
     }
   }
+}
+
+std::vector<double> BeamBody::save_state() const {
+  StateWriter w;
+  for (const auto& element : states)
+    for (const auto& s : element) w.add(s);
+  for (const auto& s : probe_states_) w.add(s);
+  return w.take();
+}
+
+void BeamBody::restore_state(const std::vector<double>& state) {
+  StateReader r(state, "beam '" + name_ + "'");
+  for (auto& element : states)
+    for (auto& s : element) s = r.next_point_state();
+  for (auto& s : probe_states_) s = r.next_point_state();
+  r.finish();
 }
 
 int BeamBody::add_probe(double xi) {

@@ -49,6 +49,9 @@ class BeamBody final : public Contribution {
   std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
   double evaluate(const State& s, ElementSink& sink, Status& status) override;
   void accept(const State& s) override;
+  // The frame states of the quadrature points and probes.
+  std::vector<double> save_state() const override;
+  void restore_state(const std::vector<double>& state) override;
 
   // Consistent nodal forces (x, y, z per control point, control-point major) of a force per unit
   // reference length along the whole beam.

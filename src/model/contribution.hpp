@@ -114,6 +114,11 @@ class Contribution {
   // After a converged step at state s; after a failed attempt.
   virtual void accept(const State& /*s*/) {}
   virtual void reject() {}
+  // Restart support: the state kept between steps (what accept() committed), as numbers, and its
+  // restoration into a contribution built from the same case (InputError if the numbers do not fit).
+  // Empty: the contribution keeps no such state.
+  virtual std::vector<double> save_state() const { return {}; }
+  virtual void restore_state(const std::vector<double>& /*state*/) {}
   // False if the tangent may be unsymmetric (follower moments, the RF1 coupling).
   virtual bool symmetric() const { return true; }
   // What the contribution saw in the last failed attempt that may explain it; empty if nothing.

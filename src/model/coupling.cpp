@@ -231,6 +231,7 @@ double Coupling::evaluate(const State& state, ElementSink& sink, Status& status)
   // The model sums the returned energies over the processes; energy_ (output) is the whole coupling's.
   energy_ = energy;
   if (sink.distributed()) share_points(sink, energy_);
+  classify_points();
   if (bad)
     status.merge(Status::invalid("a beam point of interaction '" + name_ +
                                  "' lies inside the plate, where the interaction law has no value"));
@@ -325,6 +326,21 @@ void Coupling::share_points(const ElementSink& sink, double& energy) {
     }
   }
   energy = data.back();
+}
+
+void Coupling::classify_points() {
+  using Where = interaction::ShellProximity::Projection::Where;
+  lost_points_ = 0;
+  for (std::size_t i = 0; i < quad_.size(); ++i) {
+    auto& p = points_[i];
+    if (p.active) {
+      p.status = p.soft ? CouplingPoint::Status::soft : CouplingPoint::Status::interior;
+      continue;
+    }
+    // Not evaluated: off the patch, or no projection (a point whose kernel threw makes the state invalid).
+    p.status = projection_[i].where == Where::outside ? CouplingPoint::Status::outside : CouplingPoint::Status::failed;
+    ++lost_points_;
+  }
 }
 
 Eigen::Vector3d Coupling::total_force() const {

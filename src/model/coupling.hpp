@@ -22,9 +22,15 @@ class ShellBody;
 
 // What one beam quadrature point sees, for output.
 struct CouplingPoint {
+  // interior: paired with its closest point on the shell; soft: evaluated with the soft minimum;
+  // outside: the closest point lies off the shell patch (the stationary point of the distance is beyond
+  // an edge); failed: the closest-point projection did not converge. Outside and failed points are
+  // "lost": they carry no interaction, and distance / cos_alpha / position have no meaning for them.
+  enum class Status { interior, soft, outside, failed };
   double xi = 0, s = 0;        // beam parameter and reference arc length
-  bool active = false;         // false: the projection left the shell patch (no interaction)
+  bool active = false;         // interior or soft (the point interacts)
   bool soft = false;           // evaluated with the soft minimum (distance = the soft distance D)
+  Status status = Status::outside;
   double distance = 0, cos_alpha = 1, energy_density = 0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
@@ -62,6 +68,10 @@ class Coupling final : public Contribution {
   // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.
   std::string failure_hint() const override;
+  // The projections' warm starts, the beam points' last positions, the pairs' pattern and the soft-minimum
+  // points (their windows are rebuilt from the saved centres) and pending switches (coupling_state.cpp).
+  std::vector<double> save_state() const override;
+  void restore_state(const std::vector<double>& state) override;
 
   // Soft minimum (interaction/soft_distance.hpp, RF2 only): a beam point whose converged closest point
   // has relative curvature below `below`, or whose closest point jumped in a failed attempt, is evaluated
@@ -71,6 +81,10 @@ class Coupling final : public Contribution {
   int soft_points() const { return static_cast<int>(soft_.size()); }
 
   const std::vector<CouplingPoint>& points() const { return points_; }
+  // Beam quadrature points of the last evaluation whose closest point is outside the patch or whose
+  // projection failed (CouplingPoint::Status): they carry no interaction.
+  int lost_points() const { return lost_points_; }
+  int quadrature_points() const { return static_cast<int>(quad_.size()); }
   double energy() const { return energy_; }
   Eigen::Vector3d total_force() const;  // integral of the force per length over the beam
 
@@ -93,6 +107,8 @@ class Coupling final : public Contribution {
   std::vector<std::vector<int>> pair_points_;       // quadrature points of each pair
   std::vector<CouplingPoint> points_;
   double energy_ = 0;
+  int lost_points_ = 0;
+  void classify_points();  // sets each point's status and lost_points_ after an evaluation
 
   struct SoftPoint {
     int point;                      // index into quad_
@@ -107,6 +123,7 @@ class Coupling final : public Contribution {
   double beta() const;  // 1 / (width d_eq)
   Eigen::Vector3d beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   void update_soft_windows();
+  interaction::SoftWindow soft_window(const Eigen::Vector2d& centre) const;  // the window around `centre`
   void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
   bool collect_pairs();  // true if a pair outside the pattern appeared
   double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);

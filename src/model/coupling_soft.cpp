@@ -18,13 +18,16 @@ constexpr double kRecentre = 0.25, kRecentreAlong = 0.1;
 
 }  // namespace
 
+interaction::SoftWindow Coupling::soft_window(const Eigen::Vector2d& centre) const {
+  const double d_eq = law_->equilibrium_distance(1.0);
+  return interaction::make_soft_window(shell_.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
+                                       interaction::soft_window_cell(soft_width_, d_eq), shell_.mirrors);
+}
+
 void Coupling::update_soft_windows() {
   if (soft_requests_.empty()) return;
-  const double d_eq = law_->equilibrium_distance(1.0);
   for (const auto& [i, centre] : soft_requests_) {
-    interaction::SoftWindow w =
-        interaction::make_soft_window(shell_.surface, centre, interaction::soft_window_half_width(soft_width_, d_eq),
-                                      interaction::soft_window_cell(soft_width_, d_eq), shell_.mirrors);
+    interaction::SoftWindow w = soft_window(centre);
     if (soft_of_[i] < 0) {
       soft_of_[i] = static_cast<int>(soft_.size());
       SoftPoint sp;

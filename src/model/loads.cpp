@@ -2,6 +2,7 @@
 
 #include "model/beam_body.hpp"
 #include "model/load_function.hpp"
+#include "model/saved_state.hpp"
 #include "model/shell_body.hpp"
 #include "shell/edge_moment.hpp"
 #include "solve/dof_map.hpp"
@@ -81,6 +82,18 @@ double PointMoment::evaluate(const State& s, ElementSink& sink, Status& /*status
 void PointMoment::accept(const State& s) {
   const beam::BeamDofs qe = beam_.current(beam_.elements[element_].control_points, s.u, s.dofs);
   beam::update_point_state(state_, beam_.curve.basis(xi_, 2).R.topRows(3), qe);
+}
+
+std::vector<double> PointMoment::save_state() const {
+  StateWriter w;
+  w.add(state_);
+  return w.take();
+}
+
+void PointMoment::restore_state(const std::vector<double>& state) {
+  StateReader r(state, "a point moment");
+  state_ = r.next_point_state();
+  r.finish();
 }
 
 EdgeMoment::EdgeMoment(const ShellBody& shell, std::string edge, Eigen::Vector3d moment, int function)

@@ -49,6 +49,8 @@ class PointMoment final : public Contribution {
   std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
   double evaluate(const State& s, ElementSink& sink, Status& status) override;
   void accept(const State& s) override;  // the frame state's incremental update, like the beam's
+  std::vector<double> save_state() const override;  // the frame state
+  void restore_state(const std::vector<double>& state) override;
   bool symmetric() const override { return false; }
 
  private:

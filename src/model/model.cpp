@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/error.hpp"
+
 namespace fibrane::model {
 
 namespace {
@@ -255,6 +257,30 @@ void Model::accept(const Eigen::VectorXd& q, double t) {
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
   for (auto& e : entries_) e.contribution->accept(state());
+}
+
+solve::MethodState Model::save_state() const {
+  solve::MethodState state;
+  for (std::size_t k = 0; k < entries_.size(); ++k)
+    if (auto values = entries_[k].contribution->save_state(); !values.empty())
+      state[std::to_string(k) + " " + entries_[k].contribution->name()] = std::move(values);
+  return state;
+}
+
+void Model::restore_state(const solve::MethodState& state) {
+  std::size_t used = 0;
+  for (std::size_t k = 0; k < entries_.size(); ++k) {
+    const auto it = state.find(std::to_string(k) + " " + entries_[k].contribution->name());
+    if (it == state.end()) {
+      if (entries_[k].contribution->save_state().empty()) continue;
+      throw InputError("checkpoint: it lacks the saved state of " + entries_[k].contribution->name());
+    }
+    entries_[k].contribution->restore_state(it->second);
+    ++used;
+  }
+  if (used != state.size())
+    throw InputError("checkpoint: its saved contributions do not match the case's bodies, interactions and loads");
+  rebuild_variable_elements();
 }
 
 void Model::begin_step(const solve::StepKinematics* step) {

@@ -86,6 +86,11 @@ class Model : public solve::TransientSystem {
   std::string invalid_state() const override { return status_.valid ? std::string() : status_.reason; }
   void accept(const Eigen::VectorXd& q, double t) override;
   void reject() override;
+  // Restart support: the state every contribution keeps between steps (Contribution::save_state), keyed
+  // "<evaluation index> <name>", and its restoration into a model built from the same case, which also
+  // rebuilds the variable contributions' elements. InputError if the keys do not match this model's.
+  solve::MethodState save_state() const;
+  void restore_state(const solve::MethodState& state);
   std::string failure_hint() const override;
   double residual_scale() const override { return load_scale_; }
   double roundoff_floor() const override { return roundoff_floor_; }
@@ -98,6 +103,7 @@ class Model : public solve::TransientSystem {
   Eigen::VectorXd prescribed_motion(double t, int order) const override;
   const Eigen::VectorXd& external_force() const override { return external_; }
   Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const override;
+  double stored_energy() const override { return strain_energy() + energy(EnergyKind::interaction); }
   const Eigen::SparseMatrix<double>& reduced_mass() override;
 
   // State of the last evaluate().

@@ -13,6 +13,8 @@ std::vector<Observable> observables(const Model& m) {
     for (int c = 0; c < 3; ++c)
       out.push_back({name + "_force_" + std::string(1, static_cast<char>('x' + c)),
                      [i, c](const Model& x) { return x.couplings[i].total_force()[c]; }});
+    out.push_back({name + "_lost_points",
+                   [i](const Model& x) { return static_cast<double>(x.couplings[i].lost_points()); }});
   }
   for (std::size_t i = 0; i < m.monitors.size(); ++i)
     out.push_back({m.monitors[i]->name(), [i](const Model& x) { return x.monitors[i]->value(x); }});

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 
+#include "common/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json.hpp"
 #include "output/body_vtk.hpp"
@@ -52,7 +53,7 @@ std::vector<std::string> vtk_series_names(const casefile::Case& c) {
 // show them, but a script reading the folder would), and an interrupted run would keep a summary saying
 // "completed"; a collection of another VTK choice (a <body>_sampled.pvd beside a Bezier-only run) would
 // point at removed files. Only names this case writes (<name>[_sampled].pvd, <name>[_sampled]_<6 digits>.vtu,
-// <name>_<6 digits>.csv, summary.json) are touched; history.csv is rewritten.
+// <name>_<6 digits>.csv, summary.json, checkpoint.bin) are touched; history.csv is rewritten.
 void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m) {
   namespace fs = std::filesystem;
   std::vector<std::string> names = output_names(m);
@@ -66,6 +67,7 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
   };
   std::error_code ec;
   fs::remove(dir / "summary.json", ec);
+  fs::remove(dir / kCheckpointFile, ec);
   for (const auto& n : names) fs::remove(dir / (n + ".pvd"), ec);
   for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
     if (!fs::is_directory(dir / sub)) continue;
@@ -76,17 +78,36 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
 
 }  // namespace
 
-RunOutput::RunOutput(const casefile::Case& c, std::string directory)
+RunOutput::RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume)
     : case_(c), dir_(std::move(directory)), observables_(model::observables(*c.model)) {
   namespace fs = std::filesystem;
-  remove_earlier_run(dir_, *c.model);
+  const std::string history = (fs::path(dir_) / "history.csv").string();
+  energy_ = c.run.method == casefile::Method::dynamics;
+  const std::vector<std::string> names = c.output.vtk ? vtk_series_names(c) : std::vector<std::string>{};
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
-  energy_ = c.run.method == casefile::Method::dynamics;
-  history_ = std::make_unique<io::CsvWriter>((fs::path(dir_) / "history.csv").string(),
-                                             history_columns(*c.model, energy_));
-  if (c.output.vtk)
-    for (const auto& name : vtk_series_names(c)) series_.emplace_back((fs::path(dir_) / (name + ".pvd")).string());
+  if (resume) {
+    if (resume->series.size() != names.size())
+      throw InputError(dir_ + ": the checkpoint's VTK series do not match the case's output settings");
+    std::error_code ec;
+    fs::remove(fs::path(dir_) / "summary.json", ec);
+    history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_), resume->history_rows);
+  } else {
+    remove_earlier_run(dir_, *c.model);
+    history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_));
+  }
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string pvd = (fs::path(dir_) / (names[k] + ".pvd")).string();
+    if (resume) series_.emplace_back(pvd, resume->series[k]);
+    else series_.emplace_back(pvd);
+  }
+}
+
+OutputPosition RunOutput::position() const {
+  OutputPosition p;
+  p.history_rows = history_->rows_written();
+  for (const auto& s : series_) p.series.push_back(s.entries());
+  return p;
 }
 
 void RunOutput::write_history(const model::Model& m, const solve::StepReport& r) {
@@ -103,6 +124,37 @@ void RunOutput::write_history(const model::Model& m, const solve::StepReport& r)
   }
   history_->row(row);
   for (const auto& c : m.couplings) write_coupling_csv(c, r.step);
+  record_interactions(m, r);
+}
+
+void RunOutput::record_interactions(const model::Model& m, const solve::StepReport& r) {
+  interactions_.resize(m.couplings.size());
+  for (std::size_t k = 0; k < m.couplings.size(); ++k) {
+    const model::Coupling& c = m.couplings[k];
+    InteractionRecord& rec = interactions_[k];
+    rec.energy = c.energy();
+    rec.force = c.total_force();
+    rec.lost = c.lost_points();
+    if (rec.most_lost_step < 0 || rec.lost > rec.most_lost) {  // the first step with the largest count
+      rec.most_lost = rec.lost;
+      rec.most_lost_step = r.step;
+      rec.most_lost_t = r.t;
+    }
+    if (rec.lost > 0 && !rec.warned) {
+      rec.warned = true;
+      warnings_.push_back(fmt::format(
+          "at step {} (t = {}), {} of the {} beam quadrature points of interaction '{}' have no closest "
+          "point on shell '{}' (outside the patch or no converged projection) and carry no interaction; "
+          "history.csv counts them per step ({}_lost_points), the interaction CSV marks them (status)",
+          r.step, io::format_double(r.t), rec.lost, c.quadrature_points(), c.name(), c.shell().name(), c.name()));
+    }
+  }
+}
+
+std::vector<std::string> RunOutput::take_warnings() {
+  std::vector<std::string> out;
+  out.swap(warnings_);
+  return out;
 }
 
 void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
@@ -126,16 +178,50 @@ void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
   for (const auto& c : m.couplings) write(c.name(), coupling_vtu(c));
 }
 
+namespace {
+
+const char* status_name(model::CouplingPoint::Status s) {
+  switch (s) {
+    case model::CouplingPoint::Status::interior: return "interior";
+    case model::CouplingPoint::Status::soft: return "soft";
+    case model::CouplingPoint::Status::outside: return "outside";
+    case model::CouplingPoint::Status::failed: return "failed";
+  }
+  return "failed";
+}
+
+}  // namespace
+
 void RunOutput::write_coupling_csv(const model::Coupling& c, int step) const {
-  std::string text = "xi,s,active,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density,soft_minimum\n";
-  for (const auto& p : c.points())
-    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
-                        p.active ? 1 : 0, io::format_double(p.distance), io::format_double(p.cos_alpha),
-                        io::format_double(p.force.x()), io::format_double(p.force.y()),
-                        io::format_double(p.force.z()), io::format_double(p.force.norm()),
-                        io::format_double(p.energy_density), p.soft ? 1 : 0);
+  // Lost points (outside, failed) have no distance and no angle: those columns read nan; their force and
+  // energy density are 0 (they carry no interaction). Soft points have no closest point: cos_alpha is nan.
+  std::string text =
+      "xi,s,active,status,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density,soft_minimum\n";
+  for (const auto& p : c.points()) {
+    const std::string distance = p.active ? io::format_double(p.distance) : "nan";
+    const std::string cos_alpha = p.active && !p.soft ? io::format_double(p.cos_alpha) : "nan";
+    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
+                        p.active ? 1 : 0, status_name(p.status), distance, cos_alpha, io::format_double(p.force.x()),
+                        io::format_double(p.force.y()), io::format_double(p.force.z()),
+                        io::format_double(p.force.norm()), io::format_double(p.energy_density), p.soft ? 1 : 0);
+  }
   io::write_file_atomic(
       (std::filesystem::path(dir_) / "interaction" / fmt::format("{}_{:06d}.csv", c.name(), step)).string(), text);
+}
+
+io::JsonValue RunOutput::interactions_json(const model::Model& m) const {
+  io::JsonValue all = io::JsonValue::object();
+  for (std::size_t k = 0; k < m.couplings.size() && k < interactions_.size(); ++k) {
+    const InteractionRecord& rec = interactions_[k];
+    io::JsonValue j = io::JsonValue::object();
+    j.set("final_energy", rec.energy);
+    j.set("final_force", std::vector<double>{rec.force.x(), rec.force.y(), rec.force.z()});
+    j.set("final_lost_points", rec.lost).set("quadrature_points", m.couplings[k].quadrature_points());
+    j.set("max_lost_points", rec.most_lost).set("max_lost_points_step", rec.most_lost_step);
+    j.set("max_lost_points_t", rec.most_lost_t);
+    all.set(m.couplings[k].name(), std::move(j));
+  }
+  return all;
 }
 
 void RunOutput::write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
@@ -154,6 +240,7 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   for (const auto& c : m.couplings)
     if (c.soft_points() > 0) soft.set(c.name(), c.soft_points());
   j.set("soft_minimum_points", std::move(soft));
+  j.set("interactions", interactions_json(m));
   if (extra)
     for (const auto& [key, value] : extra->members()) j.set(key, value);
   io::write_file_atomic((std::filesystem::path(dir_) / "summary.json").string(), j.dump(2) + "\n");

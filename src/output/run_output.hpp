@@ -3,6 +3,7 @@
 // interaction data along each beam per step (interaction/<name>_<step>.csv), a VTK time series per body
 // (<body>.pvd + vtk/<body>_<step>.vtu) and summary.json. Every file is complete on disk after each step
 // (rows are appended whole, VTK and JSON files are renamed into place).
+#include <Eigen/Dense>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,10 +24,23 @@ namespace fibrane::output {
 // external loads and of the prescribed motion, damping work, and their balance.
 std::vector<std::string> history_columns(const model::Model& m, bool energy = false);
 
+// The name of the checkpoint file in a run's output directory (run/checkpoint.hpp).
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+
+// Where a restarted run's output continues: the history rows and the VTK series' entries at the
+// checkpoint (series in the order RunOutput writes them).
+struct OutputPosition {
+  std::size_t history_rows = 0;
+  std::vector<std::vector<io::PvdCollection::Entry>> series;
+};
+
 class RunOutput {
  public:
-  // Removes an earlier run's step files and summary from `directory` (see run_output.cpp), creates it.
-  RunOutput(const casefile::Case& c, std::string directory);
+  // A new run: removes an earlier run's step files, summary and checkpoint from `directory` (see
+  // run_output.cpp), creates it. A restarted run (`resume`): keeps the directory's files, cuts
+  // history.csv back to resume->history_rows rows, continues the VTK series from resume->series and
+  // removes only summary.json. InputError if the history or the series do not fit the case.
+  RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume = nullptr);
   // Writes the state of the model's last evaluate() as step `report.step`: a history row and the
   // interaction CSVs.
   void write_history(const model::Model& m, const solve::StepReport& report);
@@ -36,8 +50,24 @@ class RunOutput {
   void write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
                      const std::string& solver_name, const io::JsonValue* extra = nullptr);
   const std::string& directory() const { return dir_; }
+  // Warnings raised by the steps written since the last call (the first step of the run at which an
+  // interaction has lost points), as sentences for stderr; clears them.
+  std::vector<std::string> take_warnings();
+  // The position a restart continues from after the last write.
+  OutputPosition position() const;
 
  private:
+  // What summary.json reports per interaction: the values of the last step written and the step with the
+  // most lost points (model::Coupling::lost_points).
+  struct InteractionRecord {
+    double energy = 0;
+    Eigen::Vector3d force = Eigen::Vector3d::Zero();
+    int lost = 0, most_lost = 0, most_lost_step = -1;
+    double most_lost_t = 0;
+    bool warned = false;
+  };
+  void record_interactions(const model::Model& m, const solve::StepReport& report);
+  io::JsonValue interactions_json(const model::Model& m) const;
   void write_coupling_csv(const model::Coupling& c, int step) const;
   const casefile::Case& case_;
   std::string dir_;
@@ -45,6 +75,8 @@ class RunOutput {
   bool energy_ = false;
   std::unique_ptr<io::CsvWriter> history_;
   std::vector<io::PvdCollection> series_;
+  std::vector<InteractionRecord> interactions_;
+  std::vector<std::string> warnings_;
 };
 
 }  // namespace fibrane::output

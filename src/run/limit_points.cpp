@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "common/error.hpp"
+
 namespace fibrane::run {
 namespace {
 
@@ -73,6 +75,42 @@ bool LimitPointFinder::add(const solve::StepReport& r, const model::Model& m) {
                           w[0] * rows_[0].values[k] + w[1] * rows_[1].values[k] + w[2] * rows_[2].values[k]);
   found_.push_back(std::move(p));
   return true;
+}
+
+std::vector<double> LimitPointFinder::save() const {
+  std::vector<double> out{static_cast<double>(observables_.size()), static_cast<double>(rows_.size())};
+  for (const Row& row : rows_) {
+    out.insert(out.end(), {row.s, row.t, row.dt_ds});
+    out.insert(out.end(), row.values.begin(), row.values.end());
+  }
+  out.push_back(static_cast<double>(found_.size()));
+  for (const LimitPoint& p : found_) {
+    out.insert(out.end(), {static_cast<double>(p.step), p.t, p.path_length, p.maximum ? 1.0 : 0.0});
+    for (const auto& value : p.values) out.push_back(value.second);
+  }
+  return out;
+}
+
+void LimitPointFinder::restore(const std::vector<double>& state) {
+  std::size_t pos = 0;
+  auto next = [&]() {
+    if (pos >= state.size()) throw InputError("checkpoint: the limit points' state is too short for the case");
+    return state[pos++];
+  };
+  const std::size_t n = observables_.size();
+  if (static_cast<std::size_t>(next()) != n)
+    throw InputError("checkpoint: the limit points were saved with another set of history columns");
+  rows_.assign(static_cast<std::size_t>(next()), Row{});
+  for (Row& row : rows_) {
+    row.s = next(), row.t = next(), row.dt_ds = next();
+    for (std::size_t k = 0; k < n; ++k) row.values.push_back(next());
+  }
+  found_.assign(static_cast<std::size_t>(next()), LimitPoint{});
+  for (LimitPoint& p : found_) {
+    p.step = static_cast<int>(next()), p.t = next(), p.path_length = next(), p.maximum = next() != 0.0;
+    for (std::size_t k = 0; k < n; ++k) p.values.emplace_back(observables_[k].name, next());
+  }
+  if (pos != state.size()) throw InputError("checkpoint: the limit points' state is longer than the case needs");
 }
 
 }  // namespace fibrane::run

@@ -27,6 +27,10 @@ class LimitPointFinder {
   bool add(const solve::StepReport& r, const model::Model& m);
   const std::vector<LimitPoint>& found() const { return found_; }
   const LimitPoint& last() const { return found_.back(); }
+  // Restart support: the last three points and the limit points found, as numbers, and their restoration
+  // (InputError if they do not fit the observables).
+  std::vector<double> save() const;
+  void restore(const std::vector<double>& state);
 
  private:
   struct Row {

@@ -6,12 +6,17 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
 
+#include "common/error.hpp"
 #include "common/format.hpp"
 #include "io/progress.hpp"
 #include "model/observables.hpp"
 #include "output/run_output.hpp"
+#include "run/checkpoint.hpp"
+#include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
 #include "run/run_checks.hpp"
 #include "solve/arc_length.hpp"
@@ -60,68 +65,188 @@ class StopRule {
   std::string message() const {
     return "stopped: " + quantity_.name + " fell below " + format_number(fraction_) + " of its peak";
   }
+  double peak() const { return peak_; }  // the largest magnitude so far (kept in checkpoints)
+  void set_peak(double peak) { peak_ = peak; }
 
  private:
   model::Observable quantity_;
   double fraction_, peak_ = 0;
 };
 
-}  // namespace
-
-RunSummary run_case(casefile::Case& c, const RunOptions& options) {
-  solve::set_thread_count(options.threads);  // OpenMP and OpenBLAS; 0 keeps the defaults
-  const auto start = std::chrono::steady_clock::now();
-  model::Model& m = *c.model;
-  RunSummary summary;
-  summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
-  check_output_directory(c, summary.directory);
-  check_finite_model(c);
-  // A distributed run's processes hold the same state: the first one writes.
-  const bool writes = !m.distribution() || m.distribution()->rank() == 0;
-  std::unique_ptr<output::RunOutput> out = writes ? std::make_unique<output::RunOutput>(c, summary.directory) : nullptr;
-  auto solver = options.make_solver ? options.make_solver(m.symmetric())
-                                    : solve::make_linear_solver(c.run.linear_solver, m.symmetric());
-  auto method = make_method(c.run, options.newton_log);
-
-  Eigen::VectorXd q = m.initial_unknowns();
-  m.evaluate(q, c.run.steps.t_start, false);
-  solve::StepReport initial;
-  initial.t = c.run.steps.t_start;
-  initial.residual_norm = m.residual().norm();
-  if (out) {
-    out->write_history(m, initial);
-    out->write_vtk(m, initial);
+// One run of a case: the continuation method, the output, the checks after every step and the
+// checkpoints.
+class Run {
+ public:
+  Run(casefile::Case& c, const RunOptions& options, const std::string& directory,
+      const std::optional<RunCheckpoint>& restart)
+      : c_(c), m_(*c.model), options_(options), method_(make_method(c.run, options.newton_log)),
+        solver_(options.make_solver ? options.make_solver(m_.symmetric())
+                                    : solve::make_linear_solver(c.run.linear_solver, m_.symmetric())),
+        writes_(!m_.distribution() || m_.distribution()->rank() == 0),
+        q_(m_.initial_unknowns()), stop_rule_(c.run, m_),
+        limits_(model::observables(m_)),
+        progress_(options.quiet || !writes_ ? io::ProgressLine(c.run.steps.t_end, quiet_sink_, false)
+                                            : io::ProgressLine(c.run.steps.t_end)) {
+    progress_.set_monotone(c.run.method != casefile::Method::arc_length);
+    // A checkpoint that does not fit fails here, before the output directory is touched.
+    if (restart) resume(*restart);
+    // A distributed run's processes hold the same state: the first one writes.
+    if (writes_) out_ = std::make_unique<output::RunOutput>(c, directory, restart ? &restart->output : nullptr);
+    if (restart) {
+      if (!options.quiet)
+        std::cerr << "fibrane: restarting from the checkpoint of step " << restart->step
+                  << " (t = " << format_number(restart->t) << ") in " << directory << "\n";
+    } else {
+      prepared_ = method_->prepare(m_, q_, *solver_, prepare_failure_);
+      m_.evaluate(q_, c.run.steps.t_start, false);
+      solve::StepReport initial;
+      initial.t = c.run.steps.t_start;
+      initial.residual_norm = m_.residual().norm();
+      if (out_) {
+        out_->write_history(m_, initial);
+        warn();
+        out_->write_vtk(m_, initial);
+      }
+    }
   }
-  StopRule stop_rule(c.run, m);
-  std::ostringstream quiet_sink;
-  const bool quiet = options.quiet || !writes;
-  io::ProgressLine progress = quiet ? io::ProgressLine(c.run.steps.t_end, quiet_sink, false)
-                                    : io::ProgressLine(c.run.steps.t_end);
-  progress.set_monotone(c.run.method != casefile::Method::arc_length);
-  bool stopped = false;
-  LimitPointFinder limits(model::observables(m));
-  const double t_last = c.run.steps.t_end - 1e-12 * std::max(1.0, std::abs(c.run.steps.t_end));
+
+  // Marches to the end; `summary` gets the result.
+  void march(RunSummary& summary);
+  // summary.json, with `extra` members.
+  void write_summary(const RunSummary& summary, const io::JsonValue& extra) {
+    if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
+  }
+  const std::vector<LimitPoint>& limit_points() const { return limits_.found(); }
+  // The checkpoints written by this run: count, wall time spent writing them, size of the last one.
+  io::JsonValue checkpoint_json() const {
+    io::JsonValue j = io::JsonValue::object();
+    j.set("written", checkpoints_).set("seconds", checkpoint_seconds_).set("bytes", checkpoint_bytes_);
+    return j;
+  }
+
+ private:
+  void resume(const RunCheckpoint& k);
+  bool on_step(const solve::StepReport& r);
+  // Warnings of the steps just written go to stderr even with --quiet: they say that an output is not
+  // what its name suggests (lost interaction points).
+  void warn() {
+    if (!out_) return;
+    for (const auto& w : out_->take_warnings()) std::cerr << "\nfibrane: warning: " << w << "\n";
+  }
+  void write_checkpoint(int step, double t, bool completed = false);
+
+  casefile::Case& c_;
+  model::Model& m_;
+  const RunOptions& options_;
+  std::unique_ptr<solve::ContinuationMethod> method_;
+  std::unique_ptr<output::RunOutput> out_;
+  std::unique_ptr<solve::LinearSolver> solver_;
+  bool writes_;  // this process writes the output (not a distributed run's other processes)
+  Eigen::VectorXd q_;
+  StopRule stop_rule_;
+  LimitPointFinder limits_;
+  std::ostringstream quiet_sink_;
+  io::ProgressLine progress_;
+  bool stopped_ = false, interrupted_ = false;  // by the stop rule, by a signal
+  bool prepared_ = true;  // the method found its starting state (ContinuationMethod::prepare)
+  std::string prepare_failure_;
+  int last_checkpoint_ = -1, last_step_ = 0, checkpoints_ = 0;
+  double checkpoint_seconds_ = 0;
+  std::size_t checkpoint_bytes_ = 0;
+  double last_t_ = 0;
+};
+
+void Run::resume(const RunCheckpoint& k) {
+  if (k.method_name != method_->name())
+    throw InputError("checkpoint: written by the " + k.method_name + " method, the case asks for " + method_->name());
+  q_ = k.q;
+  m_.restore_state(k.model);
+  try {
+    method_->restore(k.method);
+  } catch (const std::out_of_range&) {
+    throw InputError("checkpoint: the " + k.method_name + " method's state in it is incomplete");
+  }
+  stop_rule_.set_peak(k.stop_peak);
+  limits_.restore(k.limit_points);
+  last_checkpoint_ = last_step_ = k.step;
+  last_t_ = k.t;
+}
+
+void Run::write_checkpoint(int step, double t, bool completed) {
+  if (!out_) return;  // a distributed run's other processes
+  const auto start = std::chrono::steady_clock::now();
+  RunCheckpoint k;
+  k.step = step;
+  k.t = t;
+  k.q = q_;
+  k.method_name = method_->name();
+  k.method = method_->save();
+  k.model = m_.save_state();
+  k.output = out_->position();
+  k.stop_peak = stop_rule_.peak();
+  k.limit_points = limits_.save();
+  k.completed = completed;
+  checkpoint_bytes_ = run::write_checkpoint(out_->directory(), c_, k);
+  last_checkpoint_ = step;
+  ++checkpoints_;
+  checkpoint_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+bool Run::on_step(const solve::StepReport& r) {
+  const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method_.get());
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
-  const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method.get());
-  summary.result = method->run(m, q, *solver, [&](const solve::StepReport& r, const Eigen::VectorXd&) {
-    if (dynamics) m.set_reactions(&dynamics->state().reaction);
-    if (out) out->write_history(m, r);
-    if (limits.add(r, m) && !quiet)
-      std::cerr << "\nfibrane: limit point (" << (limits.last().maximum ? "maximum" : "minimum") << " of t) at t = "
-                << format_number(limits.last().t) << " in step " << r.step << "\n";
-    stopped = stop_rule.reached(m);
-    if (out && (r.t >= t_last || stopped || out->vtk_due(r.step))) out->write_vtk(m, r);
-    progress.update(r.step, r.t, r.iterations, r.residual_norm);
-    return !stopped;
-  });
-  m.set_reactions(nullptr);
-  if (stopped) summary.result.message = stop_rule.message();
-  progress.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
-  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  io::JsonValue extra = io::JsonValue::object();
-  io::JsonValue& points = extra["limit_points"];
-  points = io::JsonValue::array();
-  for (const auto& p : limits.found()) {
+  if (dynamics) m_.set_reactions(&dynamics->state().reaction);
+  if (out_) out_->write_history(m_, r);
+  warn();
+  if (limits_.add(r, m_) && !options_.quiet && writes_)
+    std::cerr << "\nfibrane: limit point (" << (limits_.last().maximum ? "maximum" : "minimum") << " of t) at t = "
+              << format_number(limits_.last().t) << " in step " << r.step << "\n";
+  stopped_ = stop_rule_.reached(m_);
+  const double t_end = c_.run.steps.t_end;
+  const double t_last = t_end - 1e-12 * std::max(1.0, std::abs(t_end));
+  if (out_ && (r.t >= t_last || stopped_ || out_->vtk_due(r.step))) out_->write_vtk(m_, r);
+  last_step_ = r.step;
+  last_t_ = r.t;
+  const int every = c_.output.checkpoint_every;
+  // A signal received by now (while the step was solved or its output written) ends the run here.
+  interrupted_ = InterruptHandlers::received() != 0;
+  if ((every > 0 && r.step % every == 0) || interrupted_) write_checkpoint(r.step, r.t);
+  progress_.update(r.step, r.t, r.iterations, r.residual_norm);
+  return !stopped_ && !interrupted_;
+}
+
+void Run::march(RunSummary& summary) {
+  InterruptHandlers handlers;
+  if (!prepared_) {
+    summary.result.t_reached = c_.run.steps.t_start;
+    summary.result.message = prepare_failure_;
+  } else {
+    summary.result = method_->run(m_, q_, *solver_, [&](const solve::StepReport& r, const Eigen::VectorXd& q) {
+      q_ = q;
+      return on_step(r);
+    });
+  }
+  m_.set_reactions(nullptr);
+  summary.interrupted_by = interrupted_ ? InterruptHandlers::received() : 0;
+  // A run that ran out of steps can be continued with a larger budget, an interrupted one as it was:
+  // their last step is checkpointed.
+  const bool out_of_steps = summary.result.outcome == solve::Outcome::max_steps;
+  if ((out_of_steps || summary.interrupted_by) && last_checkpoint_ != last_step_) write_checkpoint(last_step_, last_t_);
+  // A completed run's checkpoint says so: a restart would march past the end (or the stop rule).
+  if (summary.result.completed() && !summary.interrupted_by && c_.output.checkpoint_every > 0)
+    write_checkpoint(last_step_, last_t_, true);
+  if (stopped_) summary.result.message = stop_rule_.message();
+  if (summary.interrupted_by) {
+    summary.result.message = std::string("interrupted at t = ") + format_number(last_t_) + " by " +
+                             signal_name(summary.interrupted_by) + " after step " + std::to_string(last_step_);
+    summary.result.outcome = solve::Outcome::interrupted;
+  }
+  progress_.finish(summary.result.completed() ? "done" : "stopped: " + summary.result.message);
+}
+
+io::JsonValue limit_points_json(const std::vector<LimitPoint>& found) {
+  io::JsonValue points = io::JsonValue::array();
+  for (const auto& p : found) {
     io::JsonValue j = io::JsonValue::object();
     j.set("t", p.t).set("kind", p.maximum ? "maximum" : "minimum").set("step", p.step).set("path_length", p.path_length);
     io::JsonValue values = io::JsonValue::object();
@@ -129,7 +254,30 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
     j.set("values", std::move(values));
     points.push_back(std::move(j));
   }
-  if (out) out->write_summary(m, summary.result, summary.wall_seconds, solver->name(), &extra);
+  return points;
+}
+
+}  // namespace
+
+RunSummary run_case(casefile::Case& c, const RunOptions& options) {
+  solve::set_thread_count(options.threads);  // OpenMP and OpenBLAS; 0 keeps the defaults
+  const auto start = std::chrono::steady_clock::now();
+  RunSummary summary;
+  summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
+  check_output_directory(c, summary.directory);
+  check_finite_model(c);
+  std::optional<RunCheckpoint> restart;
+  if (options.restart) restart = read_checkpoint(summary.directory, c);
+  c.model->evaluate(c.model->initial_unknowns(), c.run.steps.t_start, false);  // the initial state
+  Run run(c, options, summary.directory, restart);
+  run.march(summary);
+  summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  io::JsonValue extra = io::JsonValue::object();
+  extra["limit_points"] = limit_points_json(run.limit_points());
+  extra.set("restarted_from_step", restart ? restart->step : -1);
+  extra.set("checkpoints", run.checkpoint_json());
+  if (summary.interrupted_by) extra.set("interrupted", signal_name(summary.interrupted_by));
+  run.write_summary(summary, extra);
   return summary;
 }
 

@@ -15,6 +15,8 @@ struct RunOptions {
   int threads = 0;               // OpenMP threads; 0 keeps the default
   bool quiet = false;            // no progress line
   bool newton_log = false;       // one line per Newton iteration (t, iteration, |r|) on stderr
+  // Continue from the checkpoint in the output directory (run/checkpoint.hpp) instead of starting anew.
+  bool restart = false;
   // The linear solver instead of the case's `solver` (a distributed run's, src/parallel), given whether
   // the model promises symmetric tangents. Empty: the case's.
   std::function<std::unique_ptr<solve::LinearSolver>(bool symmetric)> make_solver;
@@ -24,8 +26,12 @@ struct RunSummary {
   solve::ContinuationResult result;
   double wall_seconds = 0.0;
   std::string directory;
+  int interrupted_by = 0;  // SIGINT or SIGTERM if a signal ended the run (result.outcome: interrupted)
 };
 
+// Runs the case into the output directory (a new run clears an earlier run's files there; a restart
+// continues them). SIGINT and SIGTERM end the run after the current step's output and a checkpoint are
+// written (run/interrupt.hpp). InputError for bad input, including a checkpoint that does not fit.
 // In a distributed run (the case's model has a distribution) every process calls run_case; the first
 // writes the output files and the progress line, the others only compute (their state is the same).
 RunSummary run_case(casefile::Case& c, const RunOptions& options);

@@ -123,8 +123,9 @@ class ArcLength final : public ContinuationMethod {
   // Throws std::invalid_argument if q has the wrong size or the system provides no load derivative.
   ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                          const StepCallback& on_step) override;
-  // t, ds, c, the last converged increment (dq, dt), the step count, the path length and what the sign
-  // rules need; a run() after restore() continues from the saved state with the q it is given.
+  // t, ds, c, the last converged increment (dq, dt), the step count, the path length, what the sign
+  // rules need and the tangent prepared at the last converged state; a run() after restore() continues
+  // from the saved state with the q it is given, as the uninterrupted run would.
   MethodState save() const override;
   void restore(const MethodState& state) override;
   // The scaling c in use (< 0 before the first step with automatic scaling).
@@ -135,7 +136,12 @@ class ArcLength final : public ContinuationMethod {
   int sign_disagreements() const { return disagreements_; }
 
  private:
-  struct Tangent;
+  // The path's tangent at a state: (dq, dt) and the solver's count of negative eigenvalues of K there.
+  struct Tangent {
+    Eigen::VectorXd dq;
+    double dt = 1.0;
+    int negative_eigenvalues = -1;  // of K at the state, from the solver (-1: unknown)
+  };
   struct Attempt;
   bool start_in_equilibrium(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                             const StepCallback& on_step, ContinuationResult& res);
@@ -165,6 +171,9 @@ class ArcLength final : public ContinuationMethod {
   Eigen::VectorXd dq_prev_;  // last converged increment
   double dt_prev_ = 0;
   bool have_prev_ = false, restored_ = false;
+  // The tangent at the last converged state, prepared before sys.accept() for the next predictor.
+  Tangent tangent_;
+  bool have_tangent_ = false;
   // dt/ds sign and negative eigenvalues at the state the last predictor started from, for the next
   // step's determinant rule (0, -1: unknown).
   int tangent_dt_sign_ = 0;

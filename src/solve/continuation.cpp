@@ -9,6 +9,7 @@ const char* outcome_name(Outcome o) {
     case Outcome::limit_point: return "limit_point";
     case Outcome::max_steps: return "max_steps";
     case Outcome::failed: return "failed";
+    case Outcome::interrupted: return "interrupted";
   }
   return "unknown";
 }

@@ -53,6 +53,7 @@ enum class Outcome {
   limit_point,   // load stepping could not pass a limit point and the case accepts that as the end
   max_steps,     // the step budget ran out
   failed,        // a step failed below the smallest allowed step
+  interrupted,   // the run driver ended the run on a signal (SIGINT, SIGTERM)
 };
 const char* outcome_name(Outcome o);
 
@@ -77,6 +78,13 @@ class ContinuationMethod {
  public:
   virtual ~ContinuationMethod() = default;
   virtual std::string name() const = 0;
+  // Brings q to the state the method starts from, before the run's initial state is reported (e.g. a
+  // static equilibrium that a dynamic run starts from); run() calls it if the caller has not. Returns
+  // false with `failure` set when that state cannot be found. Default: q as given.
+  virtual bool prepare(NonlinearSystem& /*sys*/, Eigen::VectorXd& /*q*/, LinearSolver& /*solver*/,
+                       std::string& /*failure*/) {
+    return true;
+  }
   // Marches from (q, t) = (q, start time) until the end, the callback stops it, or it fails. After each
   // converged step: sys.accept(q, t), then on_step. q holds the last converged state on return.
   virtual ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,

@@ -37,6 +37,8 @@ void check_transient_options(const TransientOptions& o) {
   check_parameters(o.parameters);
   if (!(o.mass_damping >= 0.0))
     throw InputError("generalized-alpha: the mass-proportional damping coefficient must be >= 0");
+  if (!(o.error_tolerance >= 0.0)) throw InputError("generalized-alpha: error_tolerance must be >= 0");
+  if (!(o.energy_tolerance >= 0.0)) throw InputError("generalized-alpha: energy_tolerance must be >= 0");
 }
 
 namespace {
@@ -182,7 +184,7 @@ NewtonReport GeneralizedAlpha::solve_step(TransientSystem& sys, double t_new, Ei
   return newton_solve(step_system, q_trial, t_new, newton_, solver);
 }
 
-void GeneralizedAlpha::advance(TransientSystem& sys, double t_new) {
+TransientState GeneralizedAlpha::advanced(TransientSystem& sys, double t_new) const {
   const GeneralizedAlphaParameters& p = options_.parameters;
   const double dt = step_.dt, a_m = options_.mass_damping;
   const TransientState& s = state_;
@@ -207,7 +209,50 @@ void GeneralizedAlpha::advance(TransientSystem& sys, double t_new) {
   next.energy.prescribed_work += 0.5 * dg.dot(s.reaction + next.reaction);
   next.energy.damping += 0.5 * a_m * du.dot(s.mass_velocity + next.mass_velocity);
   next.energy.kinetic = 0.5 * next.v.dot(next.mass_velocity);
-  state_ = std::move(next);
+  return next;
+}
+
+double GeneralizedAlpha::energy_balance(const TransientSystem& sys, const TransientState& s) {
+  const EnergyReport& e = s.energy;
+  return e.kinetic + sys.stored_energy() - e.external_work - e.prescribed_work + e.damping;
+}
+
+double GeneralizedAlpha::error_factor(const TransientState& next, double balance, double dt) const {
+  // Both measures scale like dt^3 per step: eta with the third derivative of u, the balance's change with
+  // the trapezoidal quadrature of the work integrals.
+  const auto factor = [](double tol, double measure) {
+    return measure > 0.0 ? 0.9 * std::cbrt(tol / measure) : std::numeric_limits<double>::infinity();
+  };
+  double f = 1.0;
+  bool controlled = false;
+  if (const double tol = options_.error_tolerance; tol > 0.0) {
+    const double beta = options_.parameters.beta;
+    const double error = std::abs(beta - 1.0 / 6.0) * dt * dt * (next.a - state_.a).norm();
+    const double scale = std::max({next.u.norm(), largest_displacement_, std::numeric_limits<double>::min()});
+    f = factor(tol, error / scale);
+    controlled = true;
+  }
+  if (const double tol = options_.energy_tolerance; tol > 0.0 && std::isfinite(balance)) {
+    const double g = factor(tol, std::abs(balance - balance_));
+    f = controlled ? std::min(f, g) : g;
+  }
+  return f;
+}
+
+bool GeneralizedAlpha::prepare(NonlinearSystem& base, Eigen::VectorXd& q, LinearSolver& solver, std::string& failure) {
+  prepared_ = true;
+  if (restored_ || options_.start != TransientOptions::Start::static_equilibrium) return true;
+  auto* sys = dynamic_cast<TransientSystem*>(&base);
+  if (!sys) throw std::invalid_argument("generalized_alpha: the system has no inertia (not a TransientSystem)");
+  sys->begin_step(nullptr);
+  const NewtonReport statics = newton_solve(*sys, q, control_.t_start, newton_, solver);
+  if (!statics.converged) {
+    failure = "the static equilibrium at t = " + format_number(control_.t_start) +
+              " (dynamics.start: static) was not found: " + statics.failure;
+    return false;
+  }
+  sys->accept(q, control_.t_start);
+  return true;
 }
 
 ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd& q, LinearSolver& solver,
@@ -217,13 +262,22 @@ ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd&
   if (q.size() != sys->size()) throw std::invalid_argument("generalized_alpha: q has the wrong size");
   const StepControl& sc = control_;
   if (!restored_) {
+    if (std::string failure; !prepared_ && !prepare(*sys, q, solver, failure)) {
+      ContinuationResult failed;
+      failed.outcome = Outcome::failed;
+      failed.t_reached = control_.t_start;
+      failed.message = failure;
+      return failed;
+    }
     start(*sys, q);
+    largest_displacement_ = state_.u.norm();
+    balance_ = energy_balance(*sys, state_);
     dt_ = std::min(sc.dt_initial, sc.dt_max);
     steps_ = 0;
   } else if (state_.u.size() != sys->constraint_set().num_dofs()) {
     throw InputError("generalized-alpha: the restored state does not fit the model's DOFs");
   }
-  restored_ = false;
+  restored_ = prepared_ = false;
   ContinuationResult res;
   res.t_reached = state_.t;
   res.steps = steps_;
@@ -238,16 +292,26 @@ ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd&
     int cutbacks = 0;
     NewtonReport newton;
     Eigen::VectorXd q_trial;
+    TransientState next;
+    double error_growth = 1.0, next_balance = 0.0;
     for (;;) {
       t_new = (sc.t_end - (state_.t + dt_try) <= t_eps) ? sc.t_end : state_.t + dt_try;
       newton = solve_step(*sys, t_new, q_trial, solver);
       res.total_iterations += newton.iterations;
-      if (newton.converged) break;
+      double factor = sc.cutback;
+      if (newton.converged) {
+        next = advanced(*sys, t_new);
+        next_balance = energy_balance(*sys, next);
+        error_growth = error_factor(next, next_balance, step_.dt);
+        if (error_growth >= 1.0 || dt_try <= sc.dt_min) break;
+        factor = std::max(sc.cutback, error_growth);
+        newton.failure = "local error estimate above error_tolerance";
+      }
       if (newton_.verbose)
         std::fprintf(stderr, "step to t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try, newton.failure.c_str());
       sys->reject();
       ++cutbacks;
-      dt_try *= sc.cutback;
+      dt_try = std::max(dt_try * factor, newton.converged ? sc.dt_min : 0.0);
       if (dt_try < sc.dt_min) {
         sys->begin_step(nullptr);
         res.outcome = Outcome::failed;
@@ -258,12 +322,16 @@ ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd&
       }
     }
     const double t_old = state_.t;
-    advance(*sys, t_new);
+    state_ = std::move(next);
+    largest_displacement_ = std::max(largest_displacement_, state_.u.norm());
+    balance_ = next_balance;
     sys->begin_step(nullptr);
     q = q_trial;
     steps_ = ++res.steps;
     res.t_reached = state_.t;
-    dt_ = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? std::min(dt_try * sc.growth, sc.dt_max) : dt_try;
+    double growth = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? sc.growth : 1.0;
+    if (options_.error_tolerance > 0.0 || options_.energy_tolerance > 0.0) growth = std::min(sc.growth, error_growth);
+    dt_ = std::min(dt_try * growth, sc.dt_max);
     sys->accept(q, state_.t);
     if (on_step && !on_step(step_report(res.steps, state_.t, state_.t - t_old, cutbacks, newton, state_.energy), q)) {
       res.outcome = Outcome::stopped;
@@ -281,6 +349,8 @@ MethodState GeneralizedAlpha::save() const {
   MethodState m;
   m["t"] = {s.t};
   m["dt"] = {dt_};
+  m["largest_displacement"] = {largest_displacement_};
+  m["balance"] = {balance_};
   m["steps"] = {static_cast<double>(steps_)};
   m["u"] = to_vector(s.u);
   m["v"] = to_vector(s.v);
@@ -309,6 +379,8 @@ void GeneralizedAlpha::restore(const MethodState& m) {
     if (x->size() != s.u.size()) throw InputError("generalized-alpha: inconsistent restart state (vector sizes differ)");
   state_ = std::move(s);
   dt_ = m.at("dt").at(0);
+  largest_displacement_ = m.count("largest_displacement") ? m.at("largest_displacement").at(0) : state_.u.norm();
+  balance_ = m.count("balance") ? m.at("balance").at(0) : 0.0;
   steps_ = static_cast<int>(m.at("steps").at(0));
   restored_ = true;
 }

@@ -20,6 +20,8 @@
 //   T^T [ r(u_{n+1}, t_{n+1}) + M w(u_{n+1}) ] + alpha_f / (1 - alpha_f) T^T r(u_n, t_n) = 0,
 //   w = (a_w + a_M v_w) / (1 - alpha_f),
 // the bracket being the system's residual (TransientSystem), the last term a constant this method adds.
+#include <limits>
+
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
@@ -52,6 +54,9 @@ class TransientSystem : public NonlinearSystem {
   virtual const Eigen::VectorXd& external_force() const = 0;
   // M x for a full vector x. Must not change the results of the last evaluate().
   virtual Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const = 0;
+  // The energy stored by the internal forces at the last evaluate() (strain and interaction energy: the
+  // potential whose gradient is f_int); NaN if the system does not know it (no energy_tolerance then).
+  virtual double stored_energy() const { return std::numeric_limits<double>::quiet_NaN(); }
   // The reduced mass T^T M T, for the initial acceleration. May overwrite the last evaluate()'s results;
   // the reference is read before the next evaluate().
   virtual const Eigen::SparseMatrix<double>& reduced_mass() = 0;
@@ -63,10 +68,24 @@ struct TransientOptions {
   double mass_damping = 0.0;              // a_M >= 0 in C = a_M M
   // Initial acceleration: `solve` takes it from the balance at t_start, T^T M T q''_0 = -T^T (r(u_0, t_0) +
   // C v_0 + M g''(t_0)) (one factorisation of the reduced mass); `rest` sets q''_0 = 0, correct only for
-  // a start in equilibrium (r(u_0, t_0) = 0 at the free DOFs, v_0 = 0, g'' = 0).
-  enum class Start { solve, rest } start = Start::solve;
+  // a start in equilibrium (r(u_0, t_0) = 0 at the free DOFs, v_0 = 0, g'' = 0); `static_equilibrium`
+  // first solves the static problem r(u_0, t_0) = 0 by Newton from the given q (a body released from its
+  // static equilibrium, e.g. a fiber hanging in the attraction of a membrane), then takes q''_0 as `solve`.
+  enum class Start { solve, rest, static_equilibrium } start = Start::solve;
   // The reduced initial velocity q'_0 (empty: zero); v_0 = T q'_0 + g'(t_0).
   Eigen::VectorXd initial_velocity;
+  // > 0: the step size follows the local error estimate of Zienkiewicz & Xie (1991, Earthquake Eng. Struct.
+  // Dyn. 20, 871-887), e = (beta - 1/6) dt^2 (a_{n+1} - a_n), measured as eta = |e| / max_k |u_k| (full
+  // vectors, Euclidean norms; the largest displacement of the run so far, so that a motion through u = 0
+  // does not inflate eta). A converged step with eta > error_tolerance is rejected and retried with
+  // dt * max(cutback, 0.9 (tol / eta)^(1/3)) (down to dt_min); an accepted one sets the next dt to
+  // dt * min(growth, 0.9 (tol / eta)^(1/3)), at most dt_max. 0: the step size follows Newton alone.
+  double error_tolerance = 0.0;
+  // > 0: also bounds the change of the energy balance E_kin + E_stored - W_ext - W_prescribed + D in one step
+  // (absolute, in energy units; TransientSystem::stored_energy): a converged step that changes it by
+  // delta > energy_tolerance is retried with dt * max(cutback, 0.9 (tol / delta)^(1/3)), and the next dt is
+  // limited likewise. The balance then drifts by at most energy_tolerance per step. 0: off.
+  double energy_tolerance = 0.0;
 };
 
 // Throws InputError for invalid parameters (check_parameters) or a_M < 0. (An initial velocity of the wrong
@@ -91,7 +110,7 @@ struct TransientState {
 // Generalized-alpha time stepping from t_start to t_end with the step control of load stepping: fixed steps
 // (dt_initial = dt_max, growth = 1) or adaptive ones (a step whose Newton iteration fails is retried with
 // dt * cutback, down to dt_min; a step converged in at most easy_iterations lets dt grow by `growth` up to
-// dt_max). `extrapolate` selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n).
+// dt_max), optionally also by the local error estimate (TransientOptions::error_tolerance). `extrapolate` selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n).
 // Never steps past t_end. stop_at_limit_point is ignored: a dynamic run has no limit point.
 //
 // Energy account per step (Delta x = x_{n+1} - x_n, bar x = (x_n + x_{n+1}) / 2, full vectors):
@@ -109,6 +128,8 @@ class GeneralizedAlpha final : public ContinuationMethod {
   std::string name() const override { return "generalized_alpha"; }
   // sys must be a TransientSystem (std::invalid_argument otherwise). Starts from (q, t_start) unless
   // restore() was called since the last run(). Every StepReport carries the energy account.
+  // With Start::static_equilibrium: Newton for r(q, t_start) = 0 (once; a restored run skips it).
+  bool prepare(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver, std::string& failure) override;
   ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                          const StepCallback& on_step) override;
   MethodState save() const override;
@@ -124,7 +145,12 @@ class GeneralizedAlpha final : public ContinuationMethod {
   // Solves the step from state_ to t_new; on success q_trial holds q_{n+1}.
   NewtonReport solve_step(TransientSystem& sys, double t_new, Eigen::VectorXd& q_trial, LinearSolver& solver);
   // The state at t_new from the converged step (the system's last evaluate()).
-  void advance(TransientSystem& sys, double t_new);
+  TransientState advanced(TransientSystem& sys, double t_new) const;
+  // The factor of dt that the local error estimate and the energy balance of the step from state_ to `next`
+  // (balance: next's energy balance) ask for (> 1: may grow; < 1: the step is too long); 1 without control.
+  double error_factor(const TransientState& next, double balance, double dt) const;
+  // E_kin + E_stored - W_ext - W_prescribed + D of a state whose configuration the system evaluated last.
+  static double energy_balance(const TransientSystem& sys, const TransientState& s);
 
   StepControl control_;
   NewtonOptions newton_;
@@ -136,8 +162,10 @@ class GeneralizedAlpha final : public ContinuationMethod {
   Eigen::VectorXd u_ref_, w_ref_;
   Eigen::VectorXd g_old_[3], g_new_[3];
   double dt_ = 0;         // size of the next step
+  double largest_displacement_ = 0;  // max |u| over the converged states (error_tolerance's scale)
+  double balance_ = 0;               // the energy balance of state_ (energy_tolerance)
   int steps_ = 0;
-  bool restored_ = false;
+  bool restored_ = false, prepared_ = false;
 };
 
 }  // namespace fibrane::solve

@@ -83,4 +83,10 @@ void NurbsCurve::refine(int degree, int continuity, int n_elements) {
   for (const auto& [u, times] : uniform_insertions(knots_, continuity, n_elements)) insert_knot(u, times);
 }
 
+void NurbsCurve::refine(int degree, int continuity, const std::vector<double>& grid) {
+  check_refine_request(this->degree(), degree, continuity, static_cast<int>(grid.size()) + 1);
+  elevate_degree(degree - this->degree());
+  for (const auto& [u, times] : grid_insertions(knots_, continuity, grid)) insert_knot(u, times);
+}
+
 }  // namespace fibrane::spline

@@ -40,6 +40,9 @@ class NurbsCurve {
   // geometry already has off that grid (e.g. C0 joints of arcs) remain, so the element count is
   // n_elements plus those extra knots.
   void refine(int degree, int continuity, int n_elements);
+  // The same on the interior parameter values `grid` (increasing, strictly inside the domain) instead of
+  // the uniform grid, e.g. spline::geometric_grid.
+  void refine(int degree, int continuity, const std::vector<double>& grid);
 
  private:
   KnotVector knots_;

@@ -127,15 +127,31 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by) {
 
 std::vector<std::pair<double, int>> uniform_insertions(const KnotVector& kv, int continuity,
                                                        int n_elements) {
-  std::vector<std::pair<double, int>> insertions;
+  std::vector<double> grid;
   const double a = kv.front(), b = kv.back();
+  for (int k = 1; k < n_elements; ++k) grid.push_back(a + (b - a) * k / n_elements);
+  return grid_insertions(kv, continuity, grid);
+}
+
+std::vector<std::pair<double, int>> grid_insertions(const KnotVector& kv, int continuity,
+                                                    const std::vector<double>& grid) {
+  std::vector<std::pair<double, int>> insertions;
   const int target = kv.degree() - continuity;
-  for (int k = 1; k < n_elements; ++k) {
-    const double u = a + (b - a) * k / n_elements;
+  for (double u : grid) {
     const int missing = target - kv.multiplicity(u);
     if (missing > 0) insertions.emplace_back(u, missing);
   }
   return insertions;
+}
+
+std::vector<double> geometric_grid(double a, double b, int n_elements, double ratio) {
+  if (!(ratio > 0.0) || !std::isfinite(ratio)) throw std::invalid_argument("geometric_grid: ratio must be > 0");
+  if (n_elements < 1 || !(a < b)) throw std::invalid_argument("geometric_grid: need n_elements >= 1 and a < b");
+  std::vector<double> grid;
+  const double total = std::pow(ratio, n_elements) - 1.0;
+  for (int k = 1; k < n_elements; ++k)
+    grid.push_back(ratio == 1.0 ? a + (b - a) * k / n_elements : a + (b - a) * ((std::pow(ratio, k) - 1.0) / total));
+  return grid;
 }
 
 void check_refine_request(int current_degree, int degree, int continuity, int n_elements) {

@@ -41,6 +41,17 @@ HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by = 1);
 std::vector<std::pair<double, int>> uniform_insertions(const KnotVector& kv, int continuity,
                                                        int n_elements);
 
+// Knot insertions for h-refinement on an arbitrary grid: each value of `grid` (strictly inside kv's domain,
+// increasing) is brought to multiplicity degree - continuity, counting the multiplicity it already has
+// and never lowering it.
+std::vector<std::pair<double, int>> grid_insertions(const KnotVector& kv, int continuity,
+                                                    const std::vector<double>& grid);
+
+// The n_elements - 1 interior values a + (b - a) (r^k - 1) / (r^n - 1), k = 1..n-1, of a geometric grid on
+// [a, b]: element k has the length h_0 r^k (r > 1: elements grow toward b; r < 1: toward a; r = 1:
+// uniform, a + (b - a) k / n). Throws std::invalid_argument unless r > 0, n >= 1 and a < b.
+std::vector<double> geometric_grid(double a, double b, int n_elements, double ratio);
+
 // Checks shared by NurbsCurve::refine and NurbsSurface::refine; throws std::invalid_argument.
 void check_refine_request(int current_degree, int degree, int continuity, int n_elements);
 

@@ -7,16 +7,43 @@
 
 namespace fibrane::spline {
 
-UnitArc make_unit_arc(double angle0, double angle1) {
-  const double sweep = angle1 - angle0;
-  const double two_pi = 2.0 * std::numbers::pi;
-  if (!(std::abs(sweep) > 0.0) || std::abs(sweep) > two_pi * (1.0 + 1e-14))
-    throw std::invalid_argument("arc: need 0 < |angle1 - angle0| <= 2 pi");
-  // Segments of at most 90 degrees (the slack keeps exactly 90 degrees in one segment).
-  const int segments = std::max(1, static_cast<int>(std::ceil(std::abs(sweep) / (0.5 * std::numbers::pi) - 1e-12)));
-  const double step = sweep / segments;
-  // A rational quadratic Bezier with end points at angles a, a + step, middle point at angle
-  // a + step/2 and distance 1/cos(step/2), middle weight cos(step/2), is exactly the unit arc.
+namespace {
+
+// Sweeps up to this angle are one rational quadratic segment; its middle weight cos(sweep / 2) falls to
+// 0.5 here, and the two-segment C1 form (weights cos^2(sweep / 4) >= 0.5 up to 180 degrees) takes over.
+constexpr double kSingleSegmentSweep = 2.0 * std::numbers::pi / 3.0;
+
+// One segment: end points at angle0, angle1, middle point at the mid angle and distance 1/cos(h) with
+// weight cos(h), h = sweep / 2: exactly the unit arc.
+UnitArc single_segment(double angle0, double angle1) {
+  const double h = 0.5 * (angle1 - angle0), m = angle0 + h, w = std::cos(h);
+  return {KnotVector(2, {0, 0, 0, 1, 1, 1}),
+          {{std::cos(angle0), std::sin(angle0)},
+           {std::cos(m) / w, std::sin(m) / w},
+           {std::cos(angle1), std::sin(angle1)}},
+          {1.0, w, 1.0}};
+}
+
+// Two segments of sweep / 2 joined C1 at the simple knot 0.5: control points on the tangents at the ends,
+// at angles angle0 + sweep/4 and angle0 + 3 sweep/4 and distance 1/cos(h), both of weight cos^2(h),
+// h = sweep / 4. Inserting 0.5 once more gives the middle point of the arc with weight cos^2(h), so each
+// half is the one-segment arc of its end weights (w_mid^2 = cos^2(h) w_0 w_1 holds); the homogeneous
+// middle point is the mean of its neighbours, so the curve is C1 there. Valid for sweeps below 360 deg.
+UnitArc two_segments_c1(double angle0, double angle1) {
+  const double q = 0.25 * (angle1 - angle0), c = std::cos(q);
+  const double a = angle0 + q, b = angle0 + 3.0 * q;
+  return {KnotVector(2, {0, 0, 0, 0.5, 1, 1, 1}),
+          {{std::cos(angle0), std::sin(angle0)},
+           {std::cos(a) / c, std::sin(a) / c},
+           {std::cos(b) / c, std::sin(b) / c},
+           {std::cos(angle1), std::sin(angle1)}},
+          {1.0, c * c, c * c, 1.0}};
+}
+
+// A full circle: four quadratic segments of 90 degrees joined C0 (a closed ring has a seam anyway).
+UnitArc full_circle(double angle0, double angle1) {
+  const int segments = 4;
+  const double step = (angle1 - angle0) / segments;
   const double mid_weight = std::cos(0.5 * step);
   std::vector<double> knots{0.0, 0.0, 0.0};
   UnitArc arc{KnotVector(2, {0, 0, 0, 1, 1, 1}), {}, {}};
@@ -37,6 +64,18 @@ UnitArc make_unit_arc(double angle0, double angle1) {
   knots.insert(knots.end(), 3, 1.0);
   arc.knots = KnotVector(2, std::move(knots));
   return arc;
+}
+
+}  // namespace
+
+UnitArc make_unit_arc(double angle0, double angle1) {
+  const double sweep = std::abs(angle1 - angle0);
+  const double two_pi = 2.0 * std::numbers::pi;
+  if (!(sweep > 0.0) || sweep > two_pi * (1.0 + 1e-14))
+    throw std::invalid_argument("arc: need 0 < |angle1 - angle0| <= 2 pi");
+  if (sweep <= kSingleSegmentSweep * (1.0 + 1e-12)) return single_segment(angle0, angle1);
+  if (sweep < two_pi * (1.0 - 1e-12)) return two_segments_c1(angle0, angle1);
+  return full_circle(angle0, angle1);
 }
 
 NurbsSurface make_rectangle(Eigen::Vector3d origin, Eigen::Vector3d edge_u, Eigen::Vector3d edge_v) {

@@ -2,9 +2,13 @@
 // Exact NURBS generators. Each returns the coarsest exact representation on the parameter domain
 // [0,1] (curves) or [0,1]^2 (surfaces); callers refine (NurbsCurve::refine, NurbsSurface::refine).
 //
-// Circular arcs are quadratic rational Bezier segments of at most 90 degrees each, joined with C0
-// interior knots at equal parameter steps (an arc of 180 degrees has the knot 0.5 of multiplicity 2).
-// The parameterisation is exact in geometry but not proportional to the angle.
+// Circular arcs are quadratic rational B-splines without C0 knots below a full turn: an arc of up to 120
+// degrees is one rational quadratic Bezier segment (middle weight cos(sweep/2)); an arc of more than 120
+// and less than 360 degrees (a half cylinder, a hemisphere's meridian) is two segments joined C1 at the
+// simple knot 0.5 (knots 0 0 0 0.5 1 1 1, weights 1, cos^2(sweep/4), cos^2(sweep/4), 1). Only a full
+// circle (360 degrees) is four 90-degree segments joined C0 (knots 0.25, 0.5, 0.75 of multiplicity 2).
+// The parameterisation is exact in geometry but not proportional to the angle (the speed varies by less
+// than a factor 2 along each segment).
 //
 // Cylinder convention ("Scordelis-Lo / pinched cylinder" frame): the axis is the global x axis and the
 // cross-sections are circles in the y-z plane,

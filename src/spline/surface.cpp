@@ -145,6 +145,12 @@ void NurbsSurface::refine(int dir, int degree, int continuity, int n_elements) {
     insert_knot(dir, t, times);
 }
 
+void NurbsSurface::refine(int dir, int degree, int continuity, const std::vector<double>& grid) {
+  check_refine_request(this->degree(dir), degree, continuity, static_cast<int>(grid.size()) + 1);
+  elevate_degree(dir, degree - this->degree(dir));
+  for (const auto& [t, times] : grid_insertions(knots(dir), continuity, grid)) insert_knot(dir, t, times);
+}
+
 std::vector<int> NurbsSurface::edge_indices(const std::string& edge, int row) const {
   const int nu = num_control_points(0), nv = num_control_points(1);
   const bool along_v = edge == "u0" || edge == "u1";  // u = const edges run along v

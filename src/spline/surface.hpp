@@ -55,6 +55,7 @@ class NurbsSurface {
   void insert_knot(int dir, double t, int times = 1);
   void elevate_degree(int dir, int by = 1);
   void refine(int dir, int degree, int continuity, int n_elements);
+  void refine(int dir, int degree, int continuity, const std::vector<double>& grid);
 
   // Control-point indices along a boundary, in increasing order of the running index: "u0" (u = u_min,
   // i = row, j = 0..n_v-1), "u1" (i = n_u-1-row), "v0" (v = v_min, j = row, i = 0..n_u-1), "v1"

@@ -31,7 +31,7 @@ TEST(PeelingExample, CoarseRunRisesFallsPullsOffAndDetaches) {
   const auto r = run_yaml("peeling-coarse", example_text("peeling.yaml", {
       {"elements: [20, 10]", "elements: [6, 4]"},
       {"elements: 100", "elements: 20"},
-      {"ds: 0.02, ds_max: 1.0", "ds: 0.01, ds_max: 0.4"},
+      {"ds: 0.02, ds_max: 0.5", "ds: 0.01, ds_max: 0.4"},
       {"output: {directory: out/peeling, vtk_every: 5}", "output: {vtk: false}"}}), 1);
   ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   const auto& t = r.history.at("t");

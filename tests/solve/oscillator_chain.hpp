@@ -90,6 +90,15 @@ class OscillatorChain : public TransientSystem {
   const Eigen::VectorXd& full_residual() const override { return assembler_.full_residual(); }
   const Eigen::VectorXd& external_force() const override { return f_ext_; }
   Eigen::VectorXd mass_times(const Eigen::VectorXd& x) const override { return dense_mass() * x; }
+  // Spring energy k e^2 / 2 + k3 e^4 / 4 at the last evaluate().
+  double stored_energy() const override {
+    double energy = 0.0;
+    for (const ChainSpring& sp : springs_) {
+      const double e = u_[sp.b] - u_[sp.a];
+      energy += 0.5 * sp.k * e * e + 0.25 * sp.k3 * e * e * e * e;
+    }
+    return energy;
+  }
   const Eigen::SparseMatrix<double>& reduced_mass() override {
     assembler_.begin(true);
     for (int e = 0; e < num_elements(); ++e) {

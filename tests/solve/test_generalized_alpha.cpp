@@ -262,5 +262,94 @@ TEST(GeneralizedAlpha, InitialAccelerationSatisfiesTheBalanceAtTheStart) {
   EXPECT_EQ(run_rest.state.a.norm(), 0.0);
 }
 
+// A static start finds the static equilibrium of a nonlinear spring under a constant load (k u + k3 u^3 = F)
+// and the body stays there: without it the same start oscillates about that point with amplitude u*.
+TEST(GeneralizedAlpha, StaticStartSolvesTheEquilibriumAndStaysThere) {
+  const double k = 2.0, k3 = 0.5, load = 1.5;
+  const testing::TimeFunction constant{[](double) { return 1.0; }, [](double) { return 0.0; }, [](double) { return 0.0; }};
+  OscillatorChain spring = testing::make_oscillator(1.0, k, k3, load, constant);
+  TransientOptions opt;
+  opt.start = TransientOptions::Start::static_equilibrium;
+  const auto run = testing::run_transient(spring, testing::fixed_steps(0.1, 3.0), opt, Eigen::VectorXd::Zero(1));
+  ASSERT_TRUE(run.result.completed()) << run.result.message;
+  const double u = run.q(0);
+  EXPECT_NEAR(k * u + k3 * u * u * u, load, 1e-12);  // Newton's tolerance (tight_newton)
+  EXPECT_LT(run.state.v.norm(), 1e-12);
+  EXPECT_LT(run.state.energy.kinetic, 1e-24);
+  // Released from u = 0 instead, the spring swings past the equilibrium.
+  TransientOptions released;
+  OscillatorChain again = testing::make_oscillator(1.0, k, k3, load, constant);
+  const auto swing = testing::run_transient(again, testing::fixed_steps(0.1, 3.0), released, Eigen::VectorXd::Zero(1),
+                                            true);
+  double largest = 0;
+  for (const auto& s : swing.states) largest = std::max(largest, s.u(1));
+  EXPECT_GT(largest, 1.5 * u);
+}
+
+// Error-controlled steps on a hardening oscillator u'' + u + 200 u^3 = 0, u(0) = 1 (stiffness 601 at the turning
+// points, 1 at the centre: short steps at the turns, long ones in between). The error against Runge-Kutta
+// follows the tolerance: eta ~ dt^3 per step, so the global error ~ dt^2 ~ tol^(2/3): 8 times tighter
+// gives about 4 times smaller (accepted: more than 2.5).
+TEST(GeneralizedAlpha, LocalErrorControlAdaptsTheStepAndItsErrorFollowsTheTolerance) {
+  const double t_end = 1.0;
+  OscillatorChain ref_chain = testing::make_oscillator(1.0, 1.0, 200.0);
+  const Eigen::VectorXd u0 = Eigen::VectorXd::Constant(1, 1.0), v0 = Eigen::VectorXd::Zero(1);
+  const auto exact = ChainReference(ref_chain, 0.0).integrate(u0, v0, 0.0, t_end, 200000);
+  StepControl sc = testing::fixed_steps(0.01, t_end);
+  sc.dt_max = 0.2;
+  sc.growth = 2.0;
+  std::vector<double> errors;
+  for (double tol : {8e-5, 1e-5}) {
+    OscillatorChain osc = testing::make_oscillator(1.0, 1.0, 200.0);
+    TransientOptions opt;
+    opt.error_tolerance = tol;
+    const auto run = testing::run_transient(osc, sc, opt, u0);
+    ASSERT_TRUE(run.result.completed()) << run.result.message;
+    double dt_small = 1e300, dt_large = 0;
+    for (std::size_t i = 0; i + 1 < run.reports.size(); ++i) {  // the last step is cut to land on t_end
+      dt_small = std::min(dt_small, run.reports[i].dt);
+      dt_large = std::max(dt_large, run.reports[i].dt);
+    }
+    EXPECT_GT(dt_large, 3.0 * dt_small) << "tol " << tol;
+    errors.push_back(std::abs(run.state.u[1] - exact.u[1]));
+  }
+  EXPECT_GT(errors[0] / errors[1], 2.5) << errors[0] << " " << errors[1];
+  EXPECT_LT(errors[1], 1e-2);
+}
+
+// The energy-balance control on the same hardening oscillator with the trapezoidal rule: the balance
+// (E_kin + spring energy, no loads) changes by at most energy_tolerance per accepted step, and in total by
+// less than the uncontrolled run with the same initial step.
+TEST(GeneralizedAlpha, EnergyToleranceBoundsTheBalanceChangePerStep) {
+  const Eigen::VectorXd u0 = Eigen::VectorXd::Constant(1, 1.0);
+  StepControl sc = testing::fixed_steps(0.02, 1.0);
+  sc.dt_max = 0.2;
+  sc.growth = 2.0;
+  const auto drift_per_step = [](const testing::TransientRun& run, double& total) {
+    double largest = 0.0, previous = 50.5;  // E_kin 0, spring energy at u = 1: 1/2 + 200/4
+    total = 0.0;
+    for (const TransientState& s : run.states) {
+      const double e = s.u[1] - s.u[0];
+      const double balance = s.energy.kinetic + 0.5 * e * e + 50.0 * e * e * e * e;
+      largest = std::max(largest, std::abs(balance - previous));
+      total = std::max(total, std::abs(balance - 50.5));
+      previous = balance;
+    }
+    return largest;
+  };
+  const double tol = 1e-4;
+  OscillatorChain osc = testing::make_oscillator(1.0, 1.0, 200.0);
+  TransientOptions opt;
+  opt.energy_tolerance = tol;
+  const auto run = testing::run_transient(osc, sc, opt, u0, true);
+  ASSERT_TRUE(run.result.completed()) << run.result.message;
+  double total = 0.0, total_fixed = 0.0;
+  EXPECT_LE(drift_per_step(run, total), tol * (1 + 1e-9));
+  OscillatorChain fixed = testing::make_oscillator(1.0, 1.0, 200.0);
+  const auto fixed_run = testing::run_transient(fixed, testing::fixed_steps(0.02, 1.0), TransientOptions{}, u0, true);
+  drift_per_step(fixed_run, total_fixed);
+  EXPECT_LT(total, total_fixed) << total << " vs " << total_fixed;
+}
+
 }  // namespace
 }  // namespace fibrane::solve

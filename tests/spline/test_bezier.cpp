@@ -145,7 +145,7 @@ TEST(BezierExtraction, CircleArcsStayExactAfterRefinement) {
   std::mt19937 rng(3);
   for (int p = 2; p <= 4; ++p) {
     SCOPED_TRACE("degree " + std::to_string(p));
-    NurbsCurve arc = make_arc(center, e1, e2, 1.5, -0.2, 1.4 * kPi);  // three segments, C0 joints
+    NurbsCurve arc = make_arc(center, e1, e2, 1.5, -0.2, 1.4 * kPi);  // two segments, joined C1
     arc.refine(p, p - 2, 5);
     arc.insert_knot(0.37, p);  // a C0 knot inside a segment
     check_curve(arc, random_field(rng, 1, arc.num_control_points()));

@@ -3,9 +3,13 @@
 // well-conditioned solve (elevation), so differences stay within ~100 ulps of O(1) coordinates.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <random>
+#include <vector>
 
 #include "spline/curve.hpp"
+#include "spline/refinement.hpp"
 #include "spline/shapes.hpp"
 #include "spline/surface.hpp"
 #include "test_helpers.hpp"
@@ -87,14 +91,43 @@ INSTANTIATE_TEST_SUITE_P(Spline, CurveRefinement, ::testing::Values(false, true)
                          [](const auto& info) { return info.param ? "Rational" : "Polynomial"; });
 
 TEST(CurveRefinement, RefineNeverRaisesMultiplicityAboveExisting) {
-  // A 180-degree arc has a C0 knot at 0.5; refining to C1 keeps it C0 and adds the grid knots.
-  const NurbsCurve arc = make_arc({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 2.0, 0.0, std::numbers::pi);
+  // A full circle has C0 knots at 0.25, 0.5, 0.75; refining to C1 keeps them C0 and adds the grid knots.
+  const NurbsCurve arc = make_arc({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 2.0, 0.0, 2 * std::numbers::pi);
   NurbsCurve refined = arc;
-  refined.refine(3, 1, 4);
+  refined.refine(3, 1, 8);
   EXPECT_EQ(refined.knots().multiplicity(0.5), 3);  // 2 from the arc + 1 from elevation: still C0
-  EXPECT_EQ(refined.knots().multiplicity(0.25), 2);
-  EXPECT_EQ(refined.knots().num_elements(), 4);
+  EXPECT_EQ(refined.knots().multiplicity(0.125), 2);
+  EXPECT_EQ(refined.knots().num_elements(), 8);
   EXPECT_LE(max_curve_distance(arc, refined), kTol);
+}
+
+// A geometric grid: interior knots (r^k - 1) / (r^n - 1) on [0, 1], consecutive element lengths in the
+// ratio r (to 1e-12), and refining on it keeps the geometry.
+TEST(CurveRefinement, GeometricGridMatchesTheSeries) {
+  for (double r : {1.25, 0.8, 1.0}) {
+    const int n = 7;
+    const std::vector<double> grid = geometric_grid(0.0, 1.0, n, r);
+    ASSERT_EQ(grid.size(), 6u);
+    for (int k = 1; k < n; ++k)
+      EXPECT_NEAR(grid[k - 1], r == 1.0 ? k / 7.0 : (std::pow(r, k) - 1) / (std::pow(r, n) - 1), 1e-15);
+    std::vector<double> x{0.0};
+    x.insert(x.end(), grid.begin(), grid.end());
+    x.push_back(1.0);
+    for (int k = 1; k < n; ++k) EXPECT_NEAR((x[k + 1] - x[k]) / (x[k] - x[k - 1]), r, 1e-12);
+    // On another domain the grid is the same fractions of it.
+    const std::vector<double> shifted = geometric_grid(2.0, 6.0, n, r);
+    for (int k = 0; k < n - 1; ++k) EXPECT_NEAR(shifted[k], 2.0 + 4.0 * grid[k], 1e-14);
+  }
+  EXPECT_THROW(geometric_grid(0.0, 1.0, 4, 0.0), std::invalid_argument);
+  EXPECT_THROW(geometric_grid(0.0, 1.0, 4, -2.0), std::invalid_argument);
+
+  const NurbsCurve arc = make_arc({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 2.0, 0.0, 1.0);
+  NurbsCurve graded = arc;
+  const std::vector<double> grid = geometric_grid(0.0, 1.0, 5, 0.7);
+  graded.refine(3, 2, grid);
+  EXPECT_EQ(graded.knots().num_elements(), 5);
+  for (double u : grid) EXPECT_EQ(graded.knots().multiplicity(u), 1);
+  EXPECT_LE(max_curve_distance(arc, graded), kTol);
 }
 
 TEST(SurfaceRefinement, InsertionAndElevationKeepGeometry) {
@@ -121,9 +154,9 @@ TEST(SurfaceRefinement, RefineSphereKeepsExactGeometry) {
   refined.refine(1, 3, 1, 3);
   EXPECT_EQ(refined.degree(0), 4);
   EXPECT_EQ(refined.degree(1), 3);
-  EXPECT_EQ(refined.knots(0).num_elements(), 5 + 1);  // the 114-degree arc has a C0 knot at 0.5
+  EXPECT_EQ(refined.knots(0).num_elements(), 5);  // the 103-degree arc is one segment: no knot of its own
   EXPECT_EQ(refined.knots(1).num_elements(), 3);
-  EXPECT_EQ(static_cast<int>(refined.elements().size()), 6 * 3);
+  EXPECT_EQ(static_cast<int>(refined.elements().size()), 5 * 3);
   EXPECT_LE(max_surface_distance(sphere, refined), kTol);
 }
 

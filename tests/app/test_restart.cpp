@@ -1,0 +1,363 @@
+// Runs that survive: a run stopped by its step budget, killed with SIGKILL, or interrupted with SIGTERM
+// or SIGINT continues with `fibrane run CASE --restart OUTDIR` from its last checkpoint, and its
+// history.csv equals the uninterrupted run's to 1e-10 (per column, relative to the column's largest
+// magnitude; step and iteration counts exactly); its VTK series equal the uninterrupted run's. A restart
+// against another case, or without a checkpoint, is bad input (exit 2, located).
+#include <gtest/gtest.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "cli_util.hpp"
+
+extern char** environ;
+
+namespace fibrane::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct History {
+  std::vector<std::string> columns;
+  std::vector<std::vector<double>> rows;
+};
+
+History read_history(const fs::path& dir) {
+  History h;
+  std::ifstream in(dir / "history.csv");
+  std::string line;
+  std::getline(in, line);
+  for (std::stringstream s(line); std::getline(s, line, ',');) h.columns.push_back(line);
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    for (std::stringstream s(line); std::getline(s, line, ',');) row.push_back(std::stod(line));
+    h.rows.push_back(row);
+  }
+  return h;
+}
+
+int history_rows(const fs::path& dir) {
+  std::ifstream in(dir / "history.csv");
+  int n = -1;
+  for (std::string line; std::getline(in, line);) ++n;
+  return n;
+}
+
+// Same columns and rows; entries within 1e-10 of the column's largest magnitude, counts exactly.
+void expect_same_history(const fs::path& reference, const fs::path& restarted) {
+  const History a = read_history(reference), b = read_history(restarted);
+  ASSERT_EQ(a.columns, b.columns);
+  ASSERT_EQ(a.rows.size(), b.rows.size()) << "rows";
+  for (std::size_t j = 0; j < a.columns.size(); ++j) {
+    double scale = 0;
+    for (const auto& row : a.rows) scale = std::max(scale, std::abs(row[j]));
+    const bool count = a.columns[j] == "step" || a.columns[j] == "iterations";
+    for (std::size_t i = 0; i < a.rows.size(); ++i) {
+      if (count) EXPECT_EQ(a.rows[i][j], b.rows[i][j]) << a.columns[j] << " row " << i;
+      else EXPECT_LE(std::abs(a.rows[i][j] - b.rows[i][j]), 1e-10 * scale) << a.columns[j] << " row " << i;
+    }
+  }
+}
+
+// A coarse peeling case (arc length through pull-off, the closest-point coupling, a stop rule, two limit
+// points; 4 x 2 shell and 10 beam elements), about fifty steps and a few seconds, with a checkpoint every
+// `every` steps.
+fs::path write_peeling(const fs::path& dir, int every) {
+  std::ifstream in(std::string(FIBRANE_SOURCE_DIR) + "/examples/peeling.yaml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  auto replace = [&](const std::string& from, const std::string& to) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  };
+  replace("elements: [20, 10]", "elements: [4, 2]");
+  replace("elements: 100", "elements: 10");
+  replace("ds: 0.02, ds_max: 1.0", "ds: 0.02, ds_max: 0.4");
+  replace("output: {directory: out/peeling, vtk_every: 5}",
+          "output: {directory: out, vtk_every: 5, checkpoint_every: " + std::to_string(every) + "}");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "case.yaml") << yaml;
+  return dir / "case.yaml";
+}
+
+CliResult run_case(const fs::path& case_file, const std::string& options) {
+  return run_cli("run '" + case_file.string() + "' -q --threads 1 " + options);
+}
+
+// The uninterrupted run of the coarse peeling case, computed once per test process and removed at its end.
+const fs::path& reference_run() {
+  struct Reference {
+    fs::path dir = fs::temp_directory_path() / ("fibrane-restart-reference-" + std::to_string(::getpid()));
+    fs::path out = dir / "out";
+    Reference() {
+      const auto r = run_case(write_peeling(dir, 4), "-o '" + out.string() + "'");
+      EXPECT_EQ(r.exit_code, 0) << r.output;
+    }
+    ~Reference() { fs::remove_all(dir); }
+  };
+  static const Reference reference;
+  return reference.out;
+}
+
+// Starts fibrane in the background (output to /dev/null); returns its pid.
+pid_t spawn_run(const fs::path& case_file, const fs::path& out) {
+  const std::string bin = fibrane_binary(), file = case_file.string(), dir = out.string();
+  std::vector<std::string> args{bin, "run", file, "-q", "--threads", "1", "-o", dir};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, bin.c_str(), &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
+}
+
+// Waits until the run has written `rows` history rows (and, with `checkpoint`, a checkpoint), or ended.
+void wait_for_rows(pid_t pid, const fs::path& out, int rows, bool checkpoint) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (history_rows(out) >= rows && (!checkpoint || fs::exists(out / "checkpoint.bin"))) return;
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) FAIL() << "the run ended before it was signalled";
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  FAIL() << "the run did not reach " << rows << " rows";
+}
+
+TEST(Restart, AfterMaxStepsEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path& reference = reference_run();
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-max-steps-" + std::to_string(::getpid()));
+  const fs::path case_file = write_peeling(dir, 4);
+  const fs::path out = dir / "out";
+  // 24 steps: the run that runs out of steps writes a checkpoint at its last step, whatever
+  // checkpoint_every (4) says. Step 25 passes the pull-off limit point, which the restarted run locates
+  // from the last three points before the checkpoint and the one after it.
+  const auto first = run_case(case_file, "-o '" + out.string() + "' --max-steps 24");
+  ASSERT_EQ(first.exit_code, 1) << first.output;
+  EXPECT_NE(read_file(out / "summary.json").find("\"max_steps\""), std::string::npos);
+  const auto second = run_case(case_file, "--restart '" + out.string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(reference, out);
+  EXPECT_EQ(read_file(out / "fiber.pvd"), read_file(reference / "fiber.pvd"));
+  EXPECT_EQ(read_file(out / "membrane.pvd"), read_file(reference / "membrane.pvd"));
+  const std::string summary = read_file(out / "summary.json"), expected = read_file(reference / "summary.json");
+  EXPECT_NE(summary.find("\"restarted_from_step\": 24"), std::string::npos);
+  auto limit_points = [](const std::string& text) {
+    const auto from = text.find("\"limit_points\""), to = text.find("\"restarted_from_step\"");
+    return from == std::string::npos || to == std::string::npos ? std::string() : text.substr(from, to - from);
+  };
+  EXPECT_NE(limit_points(expected).find("maximum"), std::string::npos) << expected;
+  EXPECT_EQ(limit_points(summary), limit_points(expected));
+  fs::remove_all(dir);
+}
+
+// The shallow roof (8 x 8 quarter) with each continuation method (8 to 10 steps, under a second each):
+// 5 steps, then --restart to the end.
+struct MethodCase {
+  const char* name;
+  const char* steps;
+};
+
+class RestartMethod : public ::testing::TestWithParam<MethodCase> {};
+
+void PrintTo(const MethodCase& c, std::ostream* os) { *os << c.name; }
+
+TEST_P(RestartMethod, AfterMaxStepsEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / (std::string("fibrane-restart-") + GetParam().name + "-" +
+                                                    std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/shallow-roof.yaml");
+  yaml = yaml.substr(0, yaml.find("steps:")) + GetParam().steps;
+  const auto at = yaml.find("poisson: 0.3}");
+  ASSERT_NE(at, std::string::npos);
+  yaml.replace(at, 13, "poisson: 0.3, density: 1.0}");  // for dynamics
+  std::ofstream(dir / "case.yaml") << yaml << "output: {directory: out, vtk: true, vtk_every: 2, checkpoint_every: 2}\n";
+  const auto full = run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'");
+  ASSERT_EQ(full.exit_code, 0) << full.output;
+  const auto first = run_case(dir / "case.yaml", "-o '" + (dir / "part").string() + "' --max-steps 5");
+  ASSERT_EQ(first.exit_code, 1) << first.output;
+  const auto second = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(dir / "full", dir / "part");
+  EXPECT_EQ(read_file(dir / "part" / "roof.pvd"), read_file(dir / "full" / "roof.pvd"));
+  // The run is complete now: another restart is refused and changes nothing.
+  const std::string history = read_file(dir / "part" / "history.csv");
+  const auto again = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("nothing to continue"), std::string::npos) << again.output;
+  EXPECT_EQ(read_file(dir / "part" / "history.csv"), history);
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Methods, RestartMethod,
+    ::testing::Values(MethodCase{"load_stepping", "steps: {t_end: 0.5, dt: 0.05}\n"},
+                      MethodCase{"arc_length", "steps: {method: arc_length, t_end: 0.3, arc_length: {ds: 2.0}}\n"},
+                      MethodCase{"dynamics", "steps: {method: dynamics, t_end: 0.5, dt: 0.01}\n"}),
+    [](const auto& info) { return std::string(info.param.name); });
+
+// A new run (no --restart) into a directory never continues or keeps an earlier run's checkpoint: the
+// stale file is removed before the run starts, and with checkpoint_every 0 a completed run writes none.
+TEST(Restart, ANewRunRemovesAnEarlierRunsCheckpoint) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-stale-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir / "out");
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/shallow-roof.yaml");
+  yaml = yaml.substr(0, yaml.find("steps:")) + "steps: {t_end: 0.2, dt: 0.1}\n";
+  std::ofstream(dir / "case.yaml") << yaml << "output: {directory: out, vtk: false, checkpoint_every: 0}\n";
+  std::ofstream(dir / "out" / "checkpoint.bin") << "an earlier run's checkpoint";
+  const auto r = run_case(dir / "case.yaml", "-o '" + (dir / "out").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "checkpoint.bin"));
+  const auto restart = run_case(dir / "case.yaml", "--restart '" + (dir / "out").string() + "'");
+  EXPECT_EQ(restart.exit_code, 2) << restart.output;
+  fs::remove_all(dir);
+}
+
+TEST(Restart, AfterSigkillEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path& reference = reference_run();
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-kill-" + std::to_string(::getpid()));
+  const fs::path case_file = write_peeling(dir, 3);
+  const fs::path out = dir / "out";
+  const pid_t pid = spawn_run(case_file, out);
+  wait_for_rows(pid, out, 20, true);
+  ASSERT_EQ(kill(pid, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the run ended before the kill";
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  // The case text differs from the reference's (checkpoint_every) but not its results.
+  const auto second = run_case(case_file, "--restart '" + out.string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(reference, out);
+  EXPECT_EQ(read_file(out / "fiber.pvd"), read_file(reference / "fiber.pvd"));
+  fs::remove_all(dir);
+}
+
+// SIGTERM (143) and SIGINT (130): the step in progress is finished and written, then a checkpoint and a
+// summary saying "interrupted"; the restart completes the run, its history one row per step. (That a
+// restarted history equals the uninterrupted one is the SIGKILL test's; this one spares the reference.)
+void interrupt_and_restart(int signal, int exit_code, const char* name) {
+  const fs::path dir = fs::temp_directory_path() / (std::string("fibrane-restart-") + name + std::to_string(::getpid()));
+  const fs::path case_file = write_peeling(dir, 50);  // the checkpoint comes from the interruption
+  const fs::path out = dir / "out";
+  const pid_t pid = spawn_run(case_file, out);
+  wait_for_rows(pid, out, 10, false);
+  // fibrane re-executes itself once at start-up (app/openmp_environment.cpp) with execv: the process that
+  // runs the steps is the re-executed image under the pid the signal goes to.
+  EXPECT_NE(read_file("/proc/" + std::to_string(pid) + "/environ").find("FIBRANE_OPENMP_CONFIGURED=1"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
+  ASSERT_EQ(kill(pid, signal), 0);
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal instead of ending the run";
+  EXPECT_EQ(WEXITSTATUS(status), exit_code);
+  const std::string summary = read_file(out / "summary.json");
+  EXPECT_NE(summary.find(std::string("\"interrupted\": \"") + name + "\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("interrupted at t = "), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"completed\": false"), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
+  const int interrupted_rows = history_rows(out);
+  // The run ended after the step in progress (steps take ~0.1 s; the poll looks every 20 ms).
+  EXPECT_LE(interrupted_rows, 14);
+  EXPECT_NE(summary.find("after step " + std::to_string(interrupted_rows - 1)), std::string::npos) << summary;
+  const auto second = run_case(case_file, "--restart '" + out.string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const History h = read_history(out);
+  EXPECT_GT(static_cast<int>(h.rows.size()), interrupted_rows + 10);
+  for (std::size_t i = 0; i < h.rows.size(); ++i) EXPECT_EQ(h.rows[i][0], static_cast<double>(i)) << "step column";
+  EXPECT_NE(read_file(out / "summary.json").find("\"completed\": true"), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST(Restart, SigtermWritesAnInterruptedSummaryAndExits143) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  interrupt_and_restart(SIGTERM, 143, "SIGTERM");
+}
+
+TEST(Restart, SigintWritesAnInterruptedSummaryAndExits130) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  interrupt_and_restart(SIGINT, 130, "SIGINT");
+}
+
+// The bending example at 32 x 8 x 8 (RF2 with the soft minimum; about 5 s of CPU per run): the first
+// beam point switches to the soft minimum in step 32, requested when step 31 was accepted. A run stopped
+// after step 31 and restarted carries the pending switch over, and its history and per-point interaction
+// files equal the uninterrupted run's.
+TEST(Restart, AcrossASoftMinimumSwitchEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-soft-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: [8, 8]"},
+                                 {"elements: 400", "elements: 32"},
+                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  }
+  std::ofstream(dir / "case.yaml") << yaml;
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'").exit_code, 0);
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "part").string() + "' --max-steps 31").exit_code, 1);
+  const auto second = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(dir / "full", dir / "part");
+  const std::string step32 = "interaction/adhesion_000032.csv", last = "interaction/adhesion_000035.csv";
+  EXPECT_NE(read_file(dir / "full" / step32).find(",1\n"), std::string::npos) << "no soft point in step 32";
+  EXPECT_EQ(read_file(dir / "part" / step32), read_file(dir / "full" / step32));
+  EXPECT_EQ(read_file(dir / "part" / last), read_file(dir / "full" / last));
+  fs::remove_all(dir);
+}
+
+TEST(Restart, RefusesAnotherCaseOrAMissingCheckpoint) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-refuse-" + std::to_string(::getpid()));
+  const fs::path case_file = write_peeling(dir, 2);
+  const fs::path out = dir / "out";
+  const auto missing = run_case(case_file, "--restart '" + out.string() + "'");
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("checkpoint.bin"), std::string::npos) << missing.output;
+  ASSERT_EQ(run_case(case_file, "-o '" + out.string() + "' --max-steps 2").exit_code, 1);
+  const std::string history = read_file(out / "history.csv");
+  std::ofstream(case_file, std::ios::app) << "# edited\n";
+  const auto other = run_case(case_file, "--restart '" + out.string() + "'");
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("checkpoint.bin: written for another case file"), std::string::npos) << other.output;
+  EXPECT_EQ(read_file(out / "history.csv"), history);  // nothing touched
+  const auto both = run_case(case_file, "--restart '" + out.string() + "' -o '" + out.string() + "'");
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace fibrane::testing
