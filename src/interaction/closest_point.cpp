@@ -89,6 +89,54 @@ std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface
 
 constexpr int kLeafSize = 4;
 
+// Newton matrix C where it is positive definite. Else C with its eigenvalues (relative to the metric
+// g_ab) replaced by their absolute values, floored: still a descent direction, but one that keeps
+// Newton's rate along the directions of positive curvature, so the iterate quickly reaches the
+// stationary point from which escape_saddle leaves along the negative one.
+Eigen::Matrix2d newton_matrix(const SurfaceJet& s, const Eigen::Matrix2d& C) {
+  Eigen::Matrix2d M = C;
+  if (!(M.determinant() > 0 && M(0, 0) > 0)) {
+    Eigen::Matrix2d G;
+    G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
+    const auto eig = relative_curvature(s, C);
+    if (eig.info() == Eigen::Success) {
+      const Eigen::Matrix2d GE = G * eig.eigenvectors();  // C = G E Lambda E^T G with E^T G E = 1
+      M = GE * eig.eigenvalues().cwiseAbs().cwiseMax(1e-2).asDiagonal() * GE.transpose();
+    } else {
+      M = G + 1e-14 * G.trace() * Eigen::Matrix2d::Identity();
+    }
+  }
+  return M;
+}
+
+// The Newton step M^-1 h in the parameters whose bounds are not active (active ones stay put).
+Eigen::Vector2d projected_newton_step(const Eigen::Matrix2d& M, const Eigen::Vector2d& h, const bool active[2]) {
+  Eigen::Vector2d step = Eigen::Vector2d::Zero();
+  if (active[0] && active[1]) return step;
+  if (active[0]) {
+    step[1] = h[1] / M(1, 1);
+  } else if (active[1]) {
+    step[0] = h[0] / M(0, 0);
+  } else {
+    step = M.ldlt().solve(h);
+  }
+  return step;
+}
+
+// The closest point's parameters, position, distance, normal and relative curvature, for the point p whose
+// projection ended at theta (surface values s there).
+void describe_closest_point(ShellProximity::Projection& out, const Eigen::Vector3d& p, const Eigen::Vector2d& theta,
+                            const SurfaceJet& s) {
+  out.u = theta[0];
+  out.v = theta[1];
+  out.point = s.r;
+  const Eigen::Vector3d D = p - s.r;
+  if (const auto eig = relative_curvature(s, distance_hessian(D, s)); eig.info() == Eigen::Success)
+    out.relative_curvature = eig.eigenvalues()[0];
+  out.distance = D.norm();
+  out.normal = out.distance > 0 ? Eigen::Vector3d(D / out.distance) : Eigen::Vector3d::Zero();
+}
+
 }  // namespace
 
 ShellProximity::ShellProximity(const spline::NurbsSurface& reference)
@@ -257,32 +305,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
       break;
     }
     if (it == kMaxIterations) break;
-    // Newton matrix C where it is positive definite. Else C with its eigenvalues (relative to the metric
-    // g_ab) replaced by their absolute values, floored: still a descent direction, but one that keeps
-    // Newton's rate along the directions of positive curvature, so the iterate quickly reaches the
-    // stationary point from which escape_saddle leaves along the negative one.
-    Eigen::Matrix2d M = C;
-    if (!(M.determinant() > 0 && M(0, 0) > 0)) {
-      Eigen::Matrix2d G;
-      G << s.g1.dot(s.g1), s.g1.dot(s.g2), s.g1.dot(s.g2), s.g2.dot(s.g2);
-      const auto eig = relative_curvature(s, C);
-      if (eig.info() == Eigen::Success) {
-        const Eigen::Matrix2d GE = G * eig.eigenvectors();  // C = G E Lambda E^T G with E^T G E = 1
-        M = GE * eig.eigenvalues().cwiseAbs().cwiseMax(1e-2).asDiagonal() * GE.transpose();
-      } else {
-        M = G + 1e-14 * G.trace() * Eigen::Matrix2d::Identity();
-      }
-    }
-    Eigen::Vector2d step = Eigen::Vector2d::Zero();
-    if (active[0] && active[1]) {
-      step.setZero();
-    } else if (active[0]) {
-      step[1] = h[1] / M(1, 1);
-    } else if (active[1]) {
-      step[0] = h[0] / M(0, 0);
-    } else {
-      step = M.ldlt().solve(h);
-    }
+    const Eigen::Vector2d step = projected_newton_step(newton_matrix(s, C), h, active);
     const double f0 = 0.5 * D.squaredNorm();
     double scale = 1.0;
     Eigen::Vector2d next;
@@ -305,15 +328,8 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     theta = next;
     s = trial;
   }
-  out.u = theta[0];
-  out.v = theta[1];
   out.element = element_at(theta[0], theta[1]);
-  out.point = s.r;
-  const Eigen::Vector3d D = p - s.r;
-  if (const auto eig = relative_curvature(s, distance_hessian(D, s)); eig.info() == Eigen::Success)
-    out.relative_curvature = eig.eigenvalues()[0];
-  out.distance = D.norm();
-  out.normal = out.distance > 0 ? Eigen::Vector3d(D / out.distance) : Eigen::Vector3d::Zero();
+  describe_closest_point(out, p, theta, s);
   if (!converged) out.where = Projection::Where::failed;
   return out;
 }

@@ -90,7 +90,7 @@ fs::path write_peeling(const fs::path& dir, int every) {
   };
   replace("elements: [20, 10]", "elements: [4, 2]");
   replace("elements: 100", "elements: 10");
-  replace("ds: 0.02, ds_max: 1.0", "ds: 0.02, ds_max: 0.4");
+  replace("ds: 0.02, ds_max: 0.5", "ds: 0.02, ds_max: 0.4");
   replace("output: {directory: out/peeling, vtk_every: 5}",
           "output: {directory: out, vtk_every: 5, checkpoint_every: " + std::to_string(every) + "}");
   fs::remove_all(dir);
