@@ -113,4 +113,12 @@ void check_fits(const ModelSize& size, const io::YamlNode& node) {
       memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)"));
 }
 
+int optional_int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {
+  const auto v = map.optional(key);
+  if (!v) return fallback;
+  const int x = v->as_int();
+  if (x < lo || x > hi) v->fail(fmt::format("{}, an integer in [{}, {}]", what, lo, hi));
+  return x;
+}
+
 }  // namespace fibrane::casefile

@@ -21,6 +21,10 @@ inline constexpr std::size_t kMaxNameLength = 64;
 // 1-64 characters of [A-Za-z0-9_.-], not starting with '.' or '-'. Returns it; InputError at `node`.
 std::string read_safe_name(const io::YamlNode& node);
 
+// An optional integer key of `map` in [lo, hi] (`what` names it in the message); `fallback` when absent.
+int optional_int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback,
+                    const std::string& what);
+
 // Polynomial degree read at `node`: an integer in [1, kMaxDegree].
 int read_degree(const io::YamlNode& node);
 

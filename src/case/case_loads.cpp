@@ -12,19 +12,6 @@ using model::NodalLoad;
 
 namespace {
 
-double beam_parameter(const model::BeamBody& b, const io::YamlNode& at) {
-  if (auto e = at.optional("end")) {
-    const bool start = e->as_choice({"start", "end"}) == "start";
-    at.reject_unknown_keys();
-    return start ? b.curve.knots().front() : b.curve.knots().back();
-  }
-  const auto x = at["xi"];
-  const double xi = x.as_double();
-  if (xi < b.curve.knots().front() || xi > b.curve.knots().back()) x.fail("a parameter inside the beam's knot range");
-  at.reject_unknown_keys();
-  return xi;
-}
-
 std::string read_edge(const io::YamlNode& entry) {
   const auto at = entry["at"];
   const std::string edge = at["edge"].as_choice({"u0", "u1", "v0", "v1"});

@@ -76,18 +76,6 @@ std::unique_ptr<model::Monitor> applied_load(Model& m, const std::string& name, 
   return std::make_unique<model::AppliedLoadMonitor>(name, std::move(dofs));
 }
 
-double beam_xi(const model::BeamBody& b, const io::YamlNode& at) {
-  if (auto e = at.optional("end")) {
-    const bool start = e->as_choice({"start", "end"}) == "start";
-    at.reject_unknown_keys();
-    return start ? b.curve.knots().front() : b.curve.knots().back();
-  }
-  const auto x = at["xi"];
-  const double xi = x.as_double();
-  if (xi < b.curve.knots().front() || xi > b.curve.knots().back()) x.fail("a parameter inside the beam's knot range");
-  at.reject_unknown_keys();
-  return xi;
-}
 
 // A section quantity of a beam at one point: rotation, tangent, director2, director3 (a component x, y,
 // z or an `axis`), section (quantity: axial_force, torque, bending2, bending3), twist_angle.
@@ -97,7 +85,7 @@ std::unique_ptr<model::Monitor> beam_point(Model& m, const std::string& name, co
   const BodyRef ref = find_body(m, entry["body"]);
   if (!ref.is_beam) entry["body"].fail("the name of a beam (a '" + type + "' monitor is a beam section quantity)");
   model::BeamBody& b = m.beams[ref.index];
-  const double xi = beam_xi(b, entry["at"]);
+  const double xi = beam_parameter(b, entry["at"]);
   Eigen::Vector3d axis = Eigen::Vector3d::Zero();
   Q q = Q::twist_angle;
   if (type == "rotation" || type == "tangent" || type == "director2" || type == "director3") {

@@ -5,18 +5,6 @@
 #include "case/case_limits.hpp"
 
 namespace fibrane::casefile {
-namespace {
-
-// An optional integer key in [lo, hi]; `fallback` when absent.
-int int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {
-  const auto v = map.optional(key);
-  if (!v) return fallback;
-  const int x = v->as_int();
-  if (x < lo || x > hi) v->fail(fmt::format("{}, an integer in [{}, {}]", what, lo, hi));
-  return x;
-}
-
-}  // namespace
 
 void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, const std::string& case_name) {
   out.directory = "out/" + case_name;
@@ -28,10 +16,10 @@ void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, c
       d->fail("a non-empty directory path");
   }
   out.vtk = node->get("vtk", out.vtk);
-  out.vtk_every = int_in(*node, "vtk_every", 1, 100'000'000, out.vtk_every, "write VTK every n-th step");
-  out.checkpoint_every = int_in(*node, "checkpoint_every", 0, 100'000'000, out.checkpoint_every,
+  out.vtk_every = optional_int_in(*node, "vtk_every", 1, 100'000'000, out.vtk_every, "write VTK every n-th step");
+  out.checkpoint_every = optional_int_in(*node, "checkpoint_every", 0, 100'000'000, out.checkpoint_every,
                                 "write the restart checkpoint every n-th step (0: only on interruption)");
-  out.samples = int_in(*node, "samples", 1, kMaxSamples, out.samples, "sampling points per element edge");
+  out.samples = optional_int_in(*node, "samples", 1, kMaxSamples, out.samples, "sampling points per element edge");
   if (auto cells = node->optional("vtk_cells")) {
     const std::string which = cells->as_choice({"bezier", "sampled", "both"});
     out.bezier = which != "sampled";

@@ -103,4 +103,17 @@ int component(const BodyRef& b, const io::YamlNode& node) {
   return c[0] - 'x';
 }
 
+double beam_parameter(const model::BeamBody& b, const io::YamlNode& at) {
+  if (auto e = at.optional("end")) {
+    const bool start = e->as_choice({"start", "end"}) == "start";
+    at.reject_unknown_keys();
+    return start ? b.curve.knots().front() : b.curve.knots().back();
+  }
+  const auto x = at["xi"];
+  const double xi = x.as_double();
+  if (xi < b.curve.knots().front() || xi > b.curve.knots().back()) x.fail("a parameter inside the beam's knot range");
+  at.reject_unknown_keys();
+  return xi;
+}
+
 }  // namespace fibrane::casefile

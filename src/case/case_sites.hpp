@@ -29,5 +29,7 @@ std::vector<Site> sites(const Model& m, const BodyRef& b, const io::YamlNode& at
 std::vector<int> boundary_row(const Model& m, const BodyRef& b, const io::YamlNode& at, int row);
 // Component name -> index: x, y, z (all bodies), twist (beams).
 int component(const BodyRef& b, const io::YamlNode& node);
+// The beam parameter of `at`: {end: start|end} or {xi: s} inside the knot range; InputError otherwise.
+double beam_parameter(const model::BeamBody& b, const io::YamlNode& at);
 
 }  // namespace fibrane::casefile

@@ -5,17 +5,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "case/case_limits.hpp"
+
 namespace fibrane::casefile {
 namespace {
 
-// An optional integer key in [lo, hi]; `fallback` when absent.
-int int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {
-  const auto v = map.optional(key);
-  if (!v) return fallback;
-  const int x = v->as_int();
-  if (x < lo || x > hi) v->fail(fmt::format("{}, an integer in [{}, {}]", what, lo, hi));
-  return x;
-}
 
 // An optional number key in the range given by lo, hi and whether each end is open; `fallback` when absent.
 double number_in(const io::YamlNode& map, const std::string& key, double lo, double hi, bool lo_open, bool hi_open,
@@ -33,7 +27,7 @@ void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNod
   a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
   if (a.ds_min > a.ds_initial) (*node)["ds_min"].fail("ds_min <= ds");
   if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
-  a.desired_iterations = int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
+  a.desired_iterations = optional_int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
                                 "the Newton iterations a step aims at");
   if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
   if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
@@ -78,12 +72,12 @@ void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>
 }
 
 void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
-  newton.max_iterations = int_in(node, "max_iterations", 1, 1000, newton.max_iterations,
+  newton.max_iterations = optional_int_in(node, "max_iterations", 1, 1000, newton.max_iterations,
                                  "the most Newton iterations per step");
   newton.tol_relative = number_in(node, "tolerance", 0.0, 1.0, true, true, newton.tol_relative);
   newton.tol_absolute = number_in(node, "tolerance_absolute", 0.0, INFINITY, false, true, newton.tol_absolute);
   newton.tol_increment = number_in(node, "tolerance_increment", 0.0, 1.0, false, true, newton.tol_increment);
-  newton.line_search = int_in(node, "line_search", 0, 30, newton.line_search,
+  newton.line_search = optional_int_in(node, "line_search", 0, 30, newton.line_search,
                               "the most halvings of a Newton update (0: none)");
   newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
 }
@@ -100,11 +94,11 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   s.dt_min = number_in(*node, "dt_min", 0.0, INFINITY, true, true, s.dt_min);
   if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
   if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
-  s.easy_iterations = int_in(*node, "easy_iterations", 1, 1000, s.easy_iterations,
+  s.easy_iterations = optional_int_in(*node, "easy_iterations", 1, 1000, s.easy_iterations,
                              "the most Newton iterations of a step that lets dt grow");
   s.growth = number_in(*node, "growth", 1.0, 100.0, false, false, s.growth);
   s.cutback = number_in(*node, "cutback", 0.0, 1.0, true, true, s.cutback);
-  s.max_steps = int_in(*node, "max_steps", 1, 100'000'000, s.max_steps, "the most steps of the run");
+  s.max_steps = optional_int_in(*node, "max_steps", 1, 100'000'000, s.max_steps, "the most steps of the run");
   if (auto method = node->optional("method")) {
     const std::string m = method->as_choice({"load_stepping", "linear", "arc_length", "dynamics"});
     run.method = m == "linear"       ? Method::linear
