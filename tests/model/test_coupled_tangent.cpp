@@ -10,8 +10,8 @@ namespace {
 
 // Tolerance: truncation ~ h^2 |r'''| ~ 1e-12 relative, round-off ~ 1e-16 |r| / h ~ 1e-8 relative to the
 // coupling's entries; 1e-6 has margin and still catches a missing term. Measured: RF2 2.3e-8, RF1 2.2e-8,
-// FF 2.3e-7. (Before the coupling was isolated, the check was relative to the shell's entries, 1e7 times
-// larger than the coupling's.)
+// FF 2.3e-7. (Relative to the shell's entries, 1e7 times larger than the coupling's, the check could not
+// see a coupling error.)
 TEST(CoupledModel, TangentMatchesFiniteDifferencesForEveryFormulation) {
   for (const std::string f : {"RF2", "RF1", "FF"}) {
     const double error = coupling_tangent_error("coupled-tangent-" + f, ", formulation: " + f, 11,
