@@ -107,7 +107,8 @@ CheckpointData read_checkpoint_file(const std::string& path) {
     if (kind == kDoubles) {
       if (count > r.remaining() / sizeof(double)) throw InputError(path + ": the checkpoint file is truncated or damaged");
       std::vector<double> values(count);
-      std::memcpy(values.data(), r.take(count * sizeof(double)), count * sizeof(double));
+      const char* source = r.take(count * sizeof(double));
+      if (count > 0) std::memcpy(values.data(), source, count * sizeof(double));  // an empty vector's data() may be null
       data.arrays[name] = std::move(values);
     } else if (kind == kText) {
       data.texts[name] = std::string(r.take(count), count);
