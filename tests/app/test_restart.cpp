@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -273,8 +274,11 @@ void interrupt_and_restart(int signal, int exit_code, const char* name) {
   wait_for_rows(pid, out, 10, false);
   // fibrane re-executes itself once at start-up (app/openmp_environment.cpp) with execv: the process that
   // runs the steps is the re-executed image under the pid the signal goes to.
-  EXPECT_NE(read_file("/proc/" + std::to_string(pid) + "/environ").find("FIBRANE_OPENMP_CONFIGURED=1"),
-            std::string::npos);
+  const std::string environ = read_file("/proc/" + std::to_string(pid) + "/environ");
+  EXPECT_NE(environ.find("FIBRANE_OPENMP_CONFIGURED=1"), std::string::npos);
+  if (!std::getenv("GLIBC_TUNABLES")) {  // the malloc thresholds it sets unless the user gave their own
+    EXPECT_NE(environ.find("GLIBC_TUNABLES=glibc.malloc.mmap_threshold="), std::string::npos);
+  }
   EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
   ASSERT_EQ(kill(pid, signal), 0);
   int status = 0;
