@@ -1,4 +1,4 @@
-// The OpenMP runtime's settings that only the environment can give, applied by re-executing fibrane once
+// The settings of the OpenMP runtime and of glibc's malloc that only the environment can give, applied by
 // before anything runs (libgomp reads them when it is loaded, before main).
 //
 // Why: CHOLMOD's supernodal factorisation opens parallel regions with a fixed num_threads(4) clause for
