@@ -1,5 +1,6 @@
 // The settings of the OpenMP runtime and of glibc's malloc that only the environment can give, applied by
-// before anything runs (libgomp reads them when it is loaded, before main).
+// re-executing fibrane once before anything runs (libgomp and glibc read them when they are loaded, before
+// main).
 //
 // Why: CHOLMOD's supernodal factorisation opens parallel regions with a fixed num_threads(4) clause for
 // every supernode, whatever omp_set_num_threads says. On a 2-core machine that is twice as many threads as
