@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "spline/quadrature.hpp"
 
@@ -36,6 +37,13 @@ double plate_distance(double beta, double log_integral, double start) {
   throw std::runtime_error("soft_distance: the plate-equivalent distance did not converge");
 }
 
+// The cells [x0 + c d, x0 + (c + 1) d], 0 <= c < n, that meet [lo, hi]: c in [first, last).
+std::pair<int, int> cells_meeting(double x0, double d, int n, double lo, double hi) {
+  const int first = static_cast<int>(std::clamp(std::floor((lo - x0) / d), 0.0, static_cast<double>(n)));
+  const int last = static_cast<int>(std::clamp(std::floor((hi - x0) / d) + 1.0, 0.0, static_cast<double>(n)));
+  return {first, std::max(first, last)};
+}
+
 }  // namespace
 
 double soft_window_half_width(double width, double d_ref) { return (std::sqrt(90.0 * width) + 0.2) * d_ref; }
@@ -66,8 +74,12 @@ SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Ve
     const int nu = std::max(1, static_cast<int>(std::ceil((e.u1 - e.u0) * mid.col(1).norm() / cell)));
     const int nv = std::max(1, static_cast<int>(std::ceil((e.v1 - e.v0) * mid.col(2).norm() / cell)));
     const double du = (e.u1 - e.u0) / nu, dv = (e.v1 - e.v0) / nv;
-    for (int cv = 0; cv < nv; ++cv)
-      for (int cu = 0; cu < nu; ++cu)
+    // Only the element's cells that meet the box: outside it the Gibbs weights are below e^-45.
+    const auto [cu0, cu1] = cells_meeting(e.u0, du, nu, centre[0] - hu, centre[0] + hu);
+    const auto [cv0, cv1] = cells_meeting(e.v0, dv, nv, centre[1] - hv, centre[1] + hv);
+    if (cu0 == cu1 || cv0 == cv1) continue;
+    for (int cv = cv0; cv < cv1; ++cv)
+      for (int cu = cu0; cu < cu1; ++cu)
         for (std::size_t qv = 0; qv < gauss.points.size(); ++qv)
           for (std::size_t qu = 0; qu < gauss.points.size(); ++qu) {
             const double u = e.u0 + du * (cu + 0.5 * (gauss.points[qu] + 1.0));
