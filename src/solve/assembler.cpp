@@ -42,7 +42,22 @@ void SparseAssembler::begin(bool with_matrix, const Eigen::VectorXd* prescribed_
   };
   for (size_t i = 1; i < buffers_.size(); ++i)
     if (stale(buffers_[i])) reset(buffers_[i]);
-  if (stale(overflow_)) reset(overflow_);
+  // The overflow buffer's matrix values (a copy of the whole value array) are allocated by its first
+  // caller with an element matrix (overflow_values), which is rare: most runs never need them.
+  if (overflow_.used || overflow_.residual.size() != n || (prescribed_rate && overflow_.rate.size() != n)) {
+    overflow_.residual.assign(n, 0.0);
+    overflow_.rate.assign(prescribed_rate ? n : 0, 0.0);
+    if (overflow_.values.size() == nnz) std::fill(overflow_.values.begin(), overflow_.values.end(), 0.0);
+    overflow_.used = false;
+  }
+  if (overflow_.values.size() != nnz) std::vector<double>().swap(overflow_.values);
+}
+
+double* SparseAssembler::overflow_values() {
+  const size_t nnz = static_cast<size_t>(matrix_.nonZeros());
+#pragma omp critical(fibrane_assembler_overflow)
+  if (overflow_.values.size() != nnz) overflow_.values.assign(nnz, 0.0);
+  return overflow_.values.data();
 }
 
 SparseAssembler::Buffer* SparseAssembler::thread_buffer() {
@@ -150,8 +165,8 @@ void SparseAssembler::add_block(int element, int n, Local local, const Eigen::Ve
   } else {
 #pragma omp atomic write
     overflow_.used = true;
-    scatter(t, e, n, local, r_local, k_local, overflow_.values.data(), overflow_.residual.data(),
-            overflow_.rate.data(), true);
+    scatter(t, e, n, local, r_local, k_local, k_local && with_matrix_ ? overflow_values() : nullptr,
+            overflow_.residual.data(), overflow_.rate.data(), true);
   }
 }
 
@@ -213,7 +228,7 @@ void SparseAssembler::end(const Distribution* distribution) {
   // Sum and clear in one pass, so the next begin() finds the buffers zeroed already.
   auto reduce = [&](Buffer& b) {
     if (!b.used) return;
-    if (with_matrix_) {
+    if (with_matrix_ && b.values.size() == static_cast<size_t>(nnz)) {
       double* buffer = b.values.data();
       // A parallel region costs microseconds (milliseconds on an oversubscribed machine): only for big arrays.
 #pragma omp parallel for schedule(static) if (nnz > 200000)

@@ -105,6 +105,8 @@ class SparseAssembler {
 
   // Buffer of the calling thread, or nullptr when the caller must use atomics on the shared arrays.
   Buffer* thread_buffer();
+  // The overflow buffer's matrix values, allocated (zeroed) by the first caller after a pattern change.
+  double* overflow_values();
   // Scatters element e's sub-block local(0), ..., local(n - 1).
   template <class Local>
   void scatter(const ElementTable& t, int e, int n, Local local, const Eigen::VectorXd& r_local,

@@ -113,6 +113,40 @@ TEST(SparseAssembler, ParallelEqualsSerialForBothStrategies) {
   }
 }
 
+// Callers in a nested parallel region have no buffer of their own: they add atomically into the overflow
+// buffer, whose matrix copy is made by its first caller and resized after a pattern change.
+TEST(SparseAssembler, NestedCallersUseTheOverflowBuffer) {
+  SparseAssembler nested;
+  for (unsigned seed : {3u, 4u}) {  // the second pattern has another size
+    const RandomProblem p = make_problem(seed == 3 ? 500 : 700, 600, 8, seed);
+    SparseAssembler serial;
+    serial.set_pattern(p.constraints, p.element_dofs);
+    nested.set_pattern(p.constraints, p.element_dofs);
+    assemble(serial, p, false);
+    const int n = static_cast<int>(p.element_dofs.size());
+    for (int repeat = 0; repeat < 2; ++repeat) {  // the second pass finds the overflow copy zeroed
+      nested.begin(true);
+#pragma omp parallel num_threads(2)
+      {
+        const int half = omp_get_thread_num();
+#pragma omp parallel for num_threads(2)
+        for (int e = half; e < n; e += 2) {
+          EXPECT_GE(omp_get_level(), 2);
+          nested.add(e, p.r_local[static_cast<size_t>(e)], &p.k_local[static_cast<size_t>(e)]);
+        }
+      }
+      nested.end();
+      const Eigen::Map<const Eigen::VectorXd> v(nested.matrix().valuePtr(), nested.matrix().nonZeros());
+      const Eigen::Map<const Eigen::VectorXd> v_serial(serial.matrix().valuePtr(), serial.matrix().nonZeros());
+      ASSERT_EQ(v.size(), v_serial.size());
+      // Only the summation order differs: 1e-14 relative to the largest entry.
+      EXPECT_LE((v - v_serial).cwiseAbs().maxCoeff(), 1e-14 * v_serial.cwiseAbs().maxCoeff());
+      EXPECT_LE((nested.full_residual() - serial.full_residual()).cwiseAbs().maxCoeff(),
+                1e-14 * serial.full_residual().cwiseAbs().maxCoeff());
+    }
+  }
+}
+
 TEST(SparseAssembler, ResidualOnlyPassAndPointLoads) {
   const RandomProblem p = make_problem(40, 20, 5, 3);
   SparseAssembler a;
