@@ -1,5 +1,6 @@
 #include "parallel/petsc_solver.hpp"
 
+#include <malloc.h>
 #include <petscksp.h>
 
 #include <algorithm>
@@ -85,6 +86,10 @@ void PetscSolver::release() {
 
 void PetscSolver::analyze(const SpMat& a) {
   release();
+  // fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
+  // iteration); a new pattern's factor is larger and rarely fits the old one's place, so the freed
+  // matrix and factor are handed back here, before the new ones are made, instead of adding to the peak.
+  malloc_trim(0);
   cholesky_ = symmetric_model_;
   if (!symmetric_model_) {
     probe_.build(a);
@@ -163,13 +168,23 @@ int PetscSolver::infog(int i) const {
 }
 
 // Column j of the summand: rows i >= j, as row j of the upper triangle (SBAIJ), or the whole column (AIJ).
+// Entries of other processes' rows wait in PETSc's stash until an assembly sends them; sending them in
+// kStashRounds rounds of columns (every process the same rounds: the flush is collective) bounds the stash
+// to a fraction of the summand's entries in other rows.
 void PetscSolver::set_values(const SpMat& a) {
+  constexpr int kStashRounds = 8;
   const auto start = Clock::now();
   FIBRANE_PETSC(MatZeroEntries(a_));
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   const double* values = a.valuePtr();
-  for (PetscInt j = 0; j < static_cast<PetscInt>(a.cols()); ++j) {
+  const PetscInt columns = static_cast<PetscInt>(a.cols());
+  const PetscInt per_round = (columns + kStashRounds - 1) / kStashRounds;
+  for (PetscInt j = 0; j < columns; ++j) {
+    if (j > 0 && j % per_round == 0) {
+      FIBRANE_PETSC(MatAssemblyBegin(a_, MAT_FLUSH_ASSEMBLY));
+      FIBRANE_PETSC(MatAssemblyEnd(a_, MAT_FLUSH_ASSEMBLY));
+    }
     const int* b = inner + outer[j];
     const int* e = inner + outer[j + 1];
     const double* v = values + outer[j];
