@@ -34,7 +34,7 @@ CASES = {
     "peeling": ("peeling.yaml", [
         ("elements: [20, 10]", "elements: [6, 4]"),
         ("elements: 100", "elements: 20"),
-        ("ds: 0.02, ds_max: 1.0", "ds: 0.01, ds_max: 0.4"),
+        ("ds: 0.02, ds_max: 0.5", "ds: 0.01, ds_max: 0.4"),
         ("output: {directory: out/peeling, vtk_every: 5}", "output: {vtk: false}"),
     ], "auto"),
     "bending": ("bending.yaml", [
