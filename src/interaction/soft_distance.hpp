@@ -71,7 +71,8 @@ double soft_window_cell(double width, double d_ref);
 // The window: every element of `surface` whose parameter box meets the box of reference half-width
 // `half_width` (in each parametric direction, measured with the reference metric at `centre`) around
 // the parameter point `centre`, each split into sub-cells no larger than `cell` (reference length), of
-// which those that meet the box are kept, each with a 3 x 3 Gauss rule. Images: one per subset of the mirror planes within 2 half_width of the centre.
+// which those that meet the box are kept, each with a 3 x 3 Gauss rule. Images: one per subset of the
+// mirror planes within 2 half_width of the centre.
 SoftWindow make_soft_window(const spline::NurbsSurface& surface, const Eigen::Vector2d& centre, double half_width,
                             double cell, const std::vector<MirrorPlane>& mirrors);
 

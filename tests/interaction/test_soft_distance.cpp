@@ -49,6 +49,20 @@ spline::NurbsSurface plate(Eigen::Vector3d origin, Eigen::Vector3d edge_u, Eigen
 
 constexpr double kWidth = 5e-4;  // the bending example's choice
 
+// The window is its box's cells, whatever the element size: on a plate of 2 x 2 elements (3 wide, against a
+// box of half-width 0.3 around an off-centre point) its samples' weights sum to the area of the cells that
+// meet the box, between the box's (0.6)^2 and (0.6 + 2 cells)^2; whole elements would give 9 or more.
+TEST(SoftDistance, WindowIsTheCellsThatMeetItsBox) {
+  const spline::NurbsSurface s = plate({0, 0, 0}, {6, 0, 0}, {0, 6, 0}, 2);
+  const double half_width = 0.3, cell = 0.05;
+  const SoftWindow w = make_soft_window(s, {3.2 / 6, 2.2 / 6}, half_width, cell, {});
+  double area = 0;
+  for (double weight : w.weight) area += weight;
+  EXPECT_GE(area, std::pow(2 * half_width, 2) - 1e-12);
+  EXPECT_LE(area, std::pow(2 * half_width + 2 * cell, 2) + 1e-12);
+  EXPECT_EQ(w.element_begin.size(), 3u);  // the box crosses the elements' boundary x = 3 only
+}
+
 // A flat plate is the law's own geometry: D = d, for the example's width and the largest allowed. The
 // window (soft_window_half_width: 0.41 d at 5e-4, 0.87 d at 5e-3) truncates the integrand at
 // exp(-(sqrt(1 + h^2) - 1) / width) = exp(-163) and exp(-63), and the 3 x 3 Gauss rule on cells of half
