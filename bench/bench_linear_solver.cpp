@@ -1,11 +1,12 @@
 // The sparse solvers on a case's tangent at t = 0 (undeformed, after one evaluation):
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
 //                       [--rounds R]
-// KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, umfpack; "auto" as fibrane builds it for
+// KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
-// gives it to MUMPS). Default: auto and symmetric-auto.
+// gives it to MUMPS), mumps-c[-lu][-single][-blr] (CHOLMOD's ordering; LU; single precision; block
+// low-rank with dropping 1e-4). Default: auto and symmetric-auto.
 // --shift S factorises K - S d I instead of K, d the mean of K's diagonal (S > 0 makes it indefinite).
 // --rounds R: the solvers take turns R times (each round builds every solver afresh), so that a machine
 // shared with other jobs slows all of them alike; the table has each one's best and median.
@@ -70,8 +71,8 @@ void reset_peak() { std::ofstream("/proc/self/clear_refs") << "5"; }
 
 // The solver of a --solver KIND. "mumps-cholmod" (MUMPS with CHOLMOD's pivot order, as "auto" makes it)
 // analyses `k` with CHOLMOD here, outside the times.
-std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const std::string& case_kind, bool symmetric,
-                                          const Eigen::SparseMatrix<double>& k) {
+std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane::solve::LinearSolverSettings& case_settings,
+                                          bool symmetric, const Eigen::SparseMatrix<double>& k) {
   static const std::map<std::string, int> orderings = {
       {"mumps-amd", 0}, {"mumps-amf", 2}, {"mumps-scotch", 3}, {"mumps-pord", 4}, {"mumps-qamd", 6}};
   fibrane::solve::MumpsOptions options;
@@ -83,14 +84,24 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const std::st
     options.low_rank = true;
     return fibrane::solve::make_mumps(options);
   }
+  // "mumps-c[-lu][-single][-blr]": MUMPS with CHOLMOD's ordering per analysis, LU or LDL^T, single or
+  // double precision, block low-rank (dropping 1e-4) or full rank.
+  if (kind.rfind("mumps-c", 0) == 0 && kind != "mumps-cholmod") {
+    options.cholmod_ordering = true;
+    options.unsymmetric = kind.find("-lu") != std::string::npos;
+    options.single_precision = kind.find("-single") != std::string::npos;
+    options.low_rank = kind.find("-blr") != std::string::npos;
+    options.low_rank_tolerance = 1e-4;
+    return fibrane::solve::make_mumps(options);
+  }
   if (kind == "mumps-cholmod") {
     auto llt = fibrane::solve::make_cholmod_llt();
     llt->analyze(k);
     options.pivot_order = fibrane::solve::cholmod_pivot_order(*llt);
     return fibrane::solve::make_mumps(options);
   }
-  if (kind == "symmetric-auto") return fibrane::solve::make_linear_solver(case_kind, true);
-  if (kind == "auto") return fibrane::solve::make_linear_solver(case_kind, symmetric);
+  if (kind == "symmetric-auto") return fibrane::solve::make_linear_solver(case_settings.kind, true);
+  if (kind == "auto") return fibrane::solve::make_linear_solver(case_settings.kind, symmetric);
   return fibrane::solve::make_linear_solver(kind, true);
 }
 

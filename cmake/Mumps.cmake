@@ -1,5 +1,5 @@
 # MUMPS, sequential build (Debian 12: libmumps-seq-dev, MUMPS 5.5.1; no CMake or pkg-config files).
-# Defines the INTERFACE target fibrane_mumps: empty when FIBRANE_MUMPS is OFF, otherwise the four
+# Defines the INTERFACE target fibrane_mumps: empty when FIBRANE_MUMPS is OFF, otherwise the five
 # sequential libraries and the compile definition FIBRANE_HAVE_MUMPS (src/solve/mumps_solver.cpp).
 #
 # Sequential and MPI MUMPS cannot share a process. Debian's sequential libdmumps_seq exports the same
@@ -23,7 +23,7 @@ endif()
 if(FIBRANE_MUMPS)
   find_path(MUMPS_INCLUDE_DIR dmumps_c.h REQUIRED)
   set(_mumps_libs)
-  foreach(lib dmumps_seq mumps_common_seq pord_seq mpiseq_seq)
+  foreach(lib dmumps_seq smumps_seq mumps_common_seq pord_seq mpiseq_seq)
     find_library(MUMPS_${lib}_LIBRARY ${lib} REQUIRED)
     list(APPEND _mumps_libs ${MUMPS_${lib}_LIBRARY})
   endforeach()

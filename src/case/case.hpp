@@ -33,7 +33,7 @@ struct RunSettings {
   solve::ArcLengthControl arc_length;  // its t_start, t_end and max_steps are ignored: run::make_method takes those of `steps`
   solve::TransientOptions dynamics;    // time steps: `steps` (t is time)
   solve::NewtonOptions newton;
-  std::string linear_solver = "auto";
+  solve::LinearSolverSettings linear_solver;  // steps.solver, precision, low_rank, krylov
   // Stop early once |monitored value| falls below this fraction of its largest magnitude so far (e.g. the
   // interaction energy at pull-off). Empty: run to t_end.
   std::string stop_column;

@@ -82,6 +82,30 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
   newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
 }
 
+// steps.solver, precision, low_rank and krylov (a map, or true for its defaults).
+void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& node) {
+  if (node.has("solver"))
+    ls.kind = node["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "mumps-lu", "umfpack", "umfpack64"});
+  if (node.has("precision")) ls.precision = node["precision"].as_choice({"double", "single"});
+  ls.low_rank = number_in(node, "low_rank", 0.0, 0.1, false, true, ls.low_rank);
+  if (auto k = node.optional("krylov")) {
+    if (k->is_map()) {
+      ls.krylov = true;
+      ls.krylov_tolerance = number_in(*k, "tolerance", 0.0, 0.1, true, true, ls.krylov_tolerance);
+      ls.krylov_max_iterations = optional_int_in(*k, "max_iterations", 1, 1000, ls.krylov_max_iterations,
+                                                 "the Krylov iterations of a solve before the factorisation is renewed");
+      k->reject_unknown_keys();
+    } else {
+      ls.krylov = k->as_bool();
+    }
+  }
+  const bool approximate = ls.precision == "single" || ls.low_rank > 0;
+  if (approximate && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu"))
+    node[node.has("precision") ? "precision" : "low_rank"].fail_message(
+        "single-precision and low-rank factorisations are MUMPS's: they need solver auto, mumps or mumps-lu, not " +
+        ls.kind);
+}
+
 }  // namespace
 
 void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
@@ -128,8 +152,12 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   }
   s.extrapolate = node->get("extrapolate", s.extrapolate);
   read_newton(run.newton, *node);
-  run.linear_solver = node->has("solver") ? (*node)["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "umfpack"})
-                                          : run.linear_solver;
+  read_linear_solver(run.linear_solver, *node);
+  if (node->has("reuse_factorization") && (run.linear_solver.krylov || run.linear_solver.precision == "single" ||
+                                           run.linear_solver.low_rank > 0))
+    (*node)["reuse_factorization"].fail_message(
+        "reuse_factorization (modified Newton) and the Krylov solves of krylov, precision: single or low_rank "
+        "(which reuse factorisations as preconditioners) exclude each other: give one");
   node->reject_unknown_keys();
 }
 

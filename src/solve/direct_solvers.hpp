@@ -23,8 +23,14 @@ std::unique_ptr<LinearSolver> make_cholmod_ldlt();
 // CHOLMOD's postordering); empty for other solvers or before an analysis.
 std::vector<int> cholmod_pivot_order(const LinearSolver& solver);
 
-// UMFPACK LU (any square matrix). Name "umfpack"; negative_eigenvalues() is -1 (LU gives no inertia).
-std::unique_ptr<LinearSolver> make_umfpack();
+// CHOLMOD's fill-reducing pivot order (METIS or AMD, as CHOLMOD's default chooses) for the pattern of
+// a's lower triangle, from a symbolic analysis alone.
+std::vector<int> cholmod_ordering(const Eigen::SparseMatrix<double>& a);
+
+// UMFPACK LU (any square matrix). Name "umfpack" (32-bit integer interface umfpack_di_*) or, with
+// long_indices, "umfpack64" (umfpack_dl_*); negative_eigenvalues() is -1 (LU gives no inertia);
+// failure_detail() names UMFPACK's status (a zero pivot is reported as a singular matrix).
+std::unique_ptr<LinearSolver> make_umfpack(bool long_indices = false);
 
 // Settings of the MUMPS solver (MUMPS 5.5 user guide numbering).
 struct MumpsOptions {
@@ -32,22 +38,32 @@ struct MumpsOptions {
   // (5, METIS, is not in Debian's sequential build.)
   int ordering = 7;
   // ICNTL(35) = 2 and CNTL(7) = low_rank_tolerance: block low-rank factorisation, an approximate factor
-  // (the solution's error grows with the tolerance). Off by default, and for experiments only: Debian's
-  // build crashed in its BLR analysis (SCOTCH) on the bending tangent at 155 k unknowns
-  // (docs/performance.md, "Symmetric indefinite solvers").
+  // (the solution's error grows with the tolerance; exact() is false). Off by default. With MUMPS's own
+  // ordering (SCOTCH) Debian's build crashed in its BLR analysis on the bending tangent at 155 k unknowns
+  // (docs/performance.md, "Symmetric indefinite solvers"); give it `cholmod_ordering`.
   bool low_rank = false;
   double low_rank_tolerance = 1e-10;
   // A pivot order (as cholmod_pivot_order gives it), used instead of `ordering` (ICNTL(7) = 1) by the
   // analyses of matrices of its size; empty: `ordering`.
   std::vector<int> pivot_order;
+  // Each analysis takes CHOLMOD's pivot order for its pattern (cholmod_ordering), instead of `ordering`
+  // and `pivot_order`: METIS, which Debian's sequential MUMPS lacks, with CHOLMOD's choice of AMD.
+  bool cholmod_ordering = false;
+  // SYM = 0: LU of the whole matrix with threshold partial pivoting (any non-singular matrix; no inertia).
+  bool unsymmetric = false;
+  // The factorisation in single precision (smumps): half the factor's memory and, where the BLAS rate
+  // doubles, about half the time; solve() is then exact only to ~1e-7 relative times the condition
+  // number, and exact() is false (KrylovReuseSolver refines it in double precision).
+  bool single_precision = false;
 };
 
 // True when fibrane was built with MUMPS (FIBRANE_MUMPS, the default).
 bool mumps_available();
 
 // MUMPS symmetric LDL^T with threshold pivoting (SYM = 2) of the lower triangle: any symmetric matrix
-// that is not numerically singular. Name "mumps"; negative_eigenvalues() is INFOG(12). Throws
-// std::logic_error if !mumps_available().
+// that is not numerically singular; negative_eigenvalues() is INFOG(12). With options.unsymmetric the LU
+// of the whole matrix (SYM = 0), negative_eigenvalues() -1. Names "mumps" / "mumps-lu", with "-single"
+// for single precision and "-blr" for block low-rank. Throws std::logic_error if !mumps_available().
 std::unique_ptr<LinearSolver> make_mumps(const MumpsOptions& options = {});
 
 }  // namespace fibrane::solve

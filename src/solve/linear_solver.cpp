@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <vector>
 
 #include "common/error.hpp"
 #include "solve/direct_solvers.hpp"
+#include "solve/krylov_reuse.hpp"
 #include "solve/symmetry_probe.hpp"
 
 namespace fibrane::solve {
@@ -55,19 +57,20 @@ class AutoSolver final : public LinearSolver {
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
   int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
+  std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
 
  private:
   bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
       if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_)});
-      else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack();
+      else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack(true);
       else fallback_ = make_cholmod_ldlt();
       fallback_->analyze(a);
     }
     current_ = fallback_.get();
     if (fallback_->factorize(a)) return true;
     if (fallback_->name() != "ldlt") return false;
-    fallback_ = make_umfpack();  // LDL^T without pivoting can fail where LU does not
+    fallback_ = make_umfpack(true);  // LDL^T without pivoting can fail where LU does not
     fallback_->analyze(a);
     current_ = fallback_.get();
     return fallback_->factorize(a);
@@ -82,10 +85,13 @@ class AutoSolver final : public LinearSolver {
 // general) but whose tangent may still be symmetric in the case at hand (a moment about a fixed axis on a
 // beam kept in a plane: M . delta omega is then the variation of M theta). The values are compared with
 // their mirror entries before every factorisation (one pass over the values through a map built at
-// analyze(), ~1% of a factorisation), and the symmetric chain (AutoSolver) is used while
-// the matrix is symmetric to round-off; otherwise LU.
+// analyze(), ~1% of a factorisation), and the symmetric chain (AutoSolver, or a MUMPS LDL^T for
+// approximate factorisations) is used while the matrix is symmetric to round-off; otherwise the LU.
 class SymmetryProbingSolver final : public LinearSolver {
  public:
+  using Factory = std::function<std::unique_ptr<LinearSolver>()>;
+  SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
+      : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
     probe_.build(a);
     symmetric_ = probe_.symmetric(a);
@@ -108,20 +114,23 @@ class SymmetryProbingSolver final : public LinearSolver {
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return symmetric_chain_ ? symmetric_chain_->analysis_summary() : ""; }
   int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
+  bool exact() const override { return current_ ? current_->exact() : true; }
+  std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
 
  private:
   // The symmetric chain is kept (with its ordering) while LU is in use.
   void pick(const SpMat& a) {
     if (symmetric_) {
-      if (!symmetric_chain_) symmetric_chain_ = std::make_unique<AutoSolver>();
+      if (!symmetric_chain_) symmetric_chain_ = make_symmetric_();
       current_ = symmetric_chain_.get();
     } else {
-      if (!lu_) lu_ = make_umfpack();
+      if (!lu_) lu_ = make_lu_();
       current_ = lu_.get();
     }
     current_->analyze(a);
   }
 
+  Factory make_symmetric_, make_lu_;
   SymmetryProbe probe_;
   bool symmetric_ = false;
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
@@ -140,21 +149,69 @@ bool LinearSolver::analyze_if_needed(const SpMat& a, int pattern_version) {
   return true;
 }
 
+// The LU of "auto" for unsymmetric matrices, and of "mumps-lu".
+std::unique_ptr<LinearSolver> make_lu(MumpsOptions options) {
+  if (!mumps_available()) return make_umfpack(true);
+  options.unsymmetric = true;
+  options.cholmod_ordering = true;
+  return make_mumps(options);
+}
+
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric) {
   if (kind == "umfpack") return make_umfpack();
+  if (kind == "umfpack64") return make_umfpack(true);
+  if (kind == "mumps-lu") {
+    if (!mumps_available()) throw InputError("linear solver 'mumps-lu': this fibrane was built without MUMPS");
+    return make_lu({});
+  }
   if (kind == "auto") {
-    if (!symmetric) return std::make_unique<SymmetryProbingSolver>();
+    if (!symmetric)
+      return std::make_unique<SymmetryProbingSolver>([] { return std::make_unique<AutoSolver>(); },
+                                                     [] { return make_lu({}); });
     return std::make_unique<AutoSolver>();
   }
   if (kind == "cholmod" || kind == "ldlt" || kind == "mumps") {
     if (!symmetric)
-      throw InputError("linear solver '" + kind + "' needs a symmetric matrix; use 'umfpack' or 'auto'");
+      throw InputError("linear solver '" + kind + "' needs a symmetric matrix; use 'auto', 'mumps-lu' or 'umfpack'");
     if (kind == "cholmod") return make_cholmod_llt();
     if (kind == "ldlt") return make_cholmod_ldlt();
     if (!mumps_available()) throw InputError("linear solver 'mumps': this fibrane was built without MUMPS");
     return make_mumps();
   }
-  throw InputError("unknown linear solver '" + kind + "' (expected cholmod, ldlt, mumps, umfpack or auto)");
+  throw InputError("unknown linear solver '" + kind +
+                   "' (expected auto, cholmod, ldlt, mumps, mumps-lu, umfpack or umfpack64)");
+}
+
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, bool symmetric) {
+  const bool approximate = settings.precision == "single" || settings.low_rank > 0;
+  std::unique_ptr<LinearSolver> direct;
+  if (!approximate) {
+    direct = make_linear_solver(settings.kind, symmetric);
+  } else {
+    const std::string what = settings.low_rank > 0 ? "low_rank" : "precision: single";
+    if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
+    MumpsOptions o;
+    o.cholmod_ordering = true;
+    o.single_precision = settings.precision == "single";
+    o.low_rank = settings.low_rank > 0;
+    o.low_rank_tolerance = settings.low_rank;
+    if (settings.kind == "mumps-lu") {
+      direct = make_lu(o);
+    } else if (settings.kind == "mumps" || settings.kind == "auto") {
+      if (symmetric) direct = make_mumps(o);
+      else if (settings.kind == "auto")
+        direct = std::make_unique<SymmetryProbingSolver>([o] { return make_mumps(o); }, [o] { return make_lu(o); });
+      else throw InputError("linear solver 'mumps' needs a symmetric matrix; use 'auto' or 'mumps-lu'");
+    } else {
+      throw InputError("'" + what + "' is a MUMPS factorisation: it needs solver auto, mumps or mumps-lu, not '" +
+                       settings.kind + "'");
+    }
+  }
+  if (!settings.krylov && !approximate) return direct;
+  KrylovReuseOptions k;
+  k.tolerance = settings.krylov_tolerance;
+  k.max_iterations = settings.krylov_max_iterations;
+  return std::make_unique<KrylovReuseSolver>(std::move(direct), k, symmetric);
 }
 
 }  // namespace fibrane::solve

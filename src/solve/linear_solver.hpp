@@ -27,6 +27,14 @@ class LinearSolver {
   // "cholmod": 0; "ldlt": negative entries of D; "mumps": negative pivots (INFOG(12)); "umfpack": -1;
   // "auto": that of the solver that made the last factorisation.
   virtual int negative_eigenvalues() const { return -1; }
+  // Whether solve() gives the solution of the factorised matrix to round-off; false for approximate
+  // factorisations (single precision, block low-rank), which KrylovReuseSolver refines.
+  virtual bool exact() const { return true; }
+  // Why the last analysis or factorisation failed, in the library's terms (empty: not known).
+  virtual std::string failure_detail() const { return {}; }
+  // factorize() without reusing a factorisation of another matrix: for callers that need the inertia of
+  // exactly this matrix. Only solvers that reuse factorisations (KrylovReuseSolver) tell the two apart.
+  virtual bool factorize_exactly(const Eigen::SparseMatrix<double>& a) { return factorize(a); }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
   // Used by newton_solve(); returns true if it analysed.
@@ -37,6 +45,24 @@ class LinearSolver {
   Eigen::Index analyzed_rows_ = -1, analyzed_nonzeros_ = -1;
 };
 
+// How a run solves its linear systems (case files: steps.solver, steps.precision, steps.low_rank,
+// steps.krylov).
+struct LinearSolverSettings {
+  std::string kind = "auto";
+  // "double", or "single": MUMPS factorisations in single precision (the symmetric chain's LL^T becomes
+  // MUMPS's LDL^T), refined in double precision by the Krylov solves.
+  std::string precision = "double";
+  double low_rank = 0;   // > 0: MUMPS block low-rank factorisations with this dropping tolerance (CNTL(7))
+  bool krylov = false;   // KrylovReuseSolver around the direct solver (always with single or low_rank)
+  double krylov_tolerance = 1e-8;
+  int krylov_max_iterations = 20;
+};
+
+// make_linear_solver(settings.kind, symmetric) and, for krylov, single precision or low rank, the
+// KrylovReuseSolver around it (src/solve/krylov_reuse.hpp). InputError for combinations this build
+// cannot make (single precision or low rank without MUMPS, or with the CHOLMOD kinds or umfpack).
+std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, bool symmetric);
+
 // kind: "cholmod" (supernodal LL^T, symmetric positive definite), "ldlt" (CHOLMOD simplicial LDL^T,
 // symmetric indefinite without pivoting), "mumps" (MUMPS multifrontal LDL^T with pivoting, symmetric
 // indefinite; only if mumps_available()), "umfpack" (unsymmetric LU), "auto" (cholmod LL^T; when it
@@ -44,8 +70,10 @@ class LinearSolver {
 // LDL^T) then umfpack; after a matrix that mumps or ldlt found indefinite, the next goes to them first,
 // until they find one positive definite and LL^T is first again). When symmetric == false "auto" checks
 // every matrix against its transpose and takes that chain while the values are symmetric to round-off
-// (1e-12 of the largest entry), umfpack otherwise; the name then reads "symmetric-auto(...)" or
-// "umfpack").
+// (1e-12 of the largest entry), an LU otherwise: MUMPS's ("mumps-lu", with CHOLMOD's ordering) where
+// the build has MUMPS, else UMFPACK's 64-bit interface; the name then reads "symmetric-auto(...)" or
+// the LU's). "mumps-lu" (MUMPS LU with CHOLMOD's ordering, any square matrix) and "umfpack64" (UMFPACK
+// through its 64-bit integer interface) may be asked for directly.
 // Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false;
 // "mumps" without MUMPS in the build is an InputError too.
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric);

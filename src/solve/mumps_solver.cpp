@@ -1,6 +1,8 @@
-// MUMPS (sequential build) as a LinearSolver: multifrontal symmetric indefinite LDL^T with threshold
-// pivoting (SYM = 2), through the C interface dmumps_c. Threads come from the BLAS only (Debian's
-// sequential MUMPS is built without OpenMP): set_thread_count() bounds them.
+// MUMPS (sequential build) as a LinearSolver, through its C interfaces dmumps_c (double) and smumps_c
+// (single precision): multifrontal LDL^T with threshold pivoting (SYM = 2) of a symmetric matrix's lower
+// triangle, or LU with threshold partial pivoting (SYM = 0) of the whole matrix; optionally block low-rank.
+// Threads come from the BLAS only (Debian's sequential MUMPS is built without OpenMP): set_thread_count()
+// bounds them.
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -9,6 +11,7 @@
 
 #ifdef FIBRANE_HAVE_MUMPS
 #include <dmumps_c.h>
+#include <smumps_c.h>
 #endif
 
 namespace fibrane::solve {
@@ -18,10 +21,19 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
-int& icntl(DMUMPS_STRUC_C& id, int i) { return id.icntl[i - 1]; }
-double& cntl(DMUMPS_STRUC_C& id, int i) { return id.cntl[i - 1]; }
-int infog(const DMUMPS_STRUC_C& id, int i) { return id.infog[i - 1]; }
+// The two arithmetics: MUMPS's structure, its real type and its entry point.
+struct DoubleArithmetic {
+  using Struct = DMUMPS_STRUC_C;
+  using Real = double;
+  static void call(Struct* id) { dmumps_c(id); }
+  static constexpr const char* suffix = "";
+};
+struct SingleArithmetic {
+  using Struct = SMUMPS_STRUC_C;
+  using Real = float;
+  static void call(Struct* id) { smumps_c(id); }
+  static constexpr const char* suffix = "-single";
+};
 
 constexpr int kUseCommWorld = -987654;  // MUMPS's communicator value for the sequential build
 
@@ -38,31 +50,36 @@ constexpr int kUseCommWorld = -987654;  // MUMPS's communicator value for the se
 // - ICNTL(14): MUMPS sizes its work space from the analysis plus this percentage (20 by default);
 //   pivoting can delay more pivots than foreseen (INFOG(1) = -8 / -9), and the factorisation is then
 //   repeated with the percentage doubled, up to three times.
+// - ICNTL(10) = 0: no iterative refinement inside MUMPS; a single-precision or low-rank factor is refined
+//   in double precision by the caller (KrylovReuseSolver).
+template <class Arithmetic>
 class MumpsSolver final : public LinearSolver {
+  using Real = typename Arithmetic::Real;
+
  public:
-  explicit MumpsSolver(const MumpsOptions& options) {
+  explicit MumpsSolver(const MumpsOptions& options) : options_(options) {
     id_.job = -1;
     id_.par = 1;  // the host process works
-    id_.sym = 2;  // general symmetric: LDL^T with pivoting
+    id_.sym = options.unsymmetric ? 0 : 2;
     id_.comm_fortran = kUseCommWorld;
-    dmumps_c(&id_);
-    if (infog(id_, 1) < 0) throw std::runtime_error("MUMPS initialisation failed: INFOG(1) = " + std::to_string(infog(id_, 1)));
-    icntl(id_, 1) = -1;  // no error, diagnostic, global or statistics output
-    icntl(id_, 2) = -1;
-    icntl(id_, 3) = -1;
-    icntl(id_, 4) = 0;
-    icntl(id_, 7) = options.ordering;
-    icntl(id_, 13) = 1;
-    icntl(id_, 24) = 0;
+    Arithmetic::call(&id_);
+    if (infog(1) < 0) throw std::runtime_error("MUMPS initialisation failed: INFOG(1) = " + std::to_string(infog(1)));
+    icntl(1) = -1;  // no error, diagnostic, global or statistics output
+    icntl(2) = -1;
+    icntl(3) = -1;
+    icntl(4) = 0;
+    icntl(7) = options.ordering;
+    icntl(10) = 0;
+    icntl(13) = 1;
+    icntl(24) = 0;
     if (options.low_rank) {
-      icntl(id_, 35) = 2;
-      cntl(id_, 7) = options.low_rank_tolerance;
+      icntl(35) = 2;
+      id_.cntl[6] = static_cast<Real>(options.low_rank_tolerance);  // CNTL(7)
     }
-    pivot_order_ = options.pivot_order;
   }
   ~MumpsSolver() override {
     id_.job = -2;
-    dmumps_c(&id_);
+    Arithmetic::call(&id_);
   }
   MumpsSolver(const MumpsSolver&) = delete;
   MumpsSolver& operator=(const MumpsSolver&) = delete;
@@ -70,37 +87,58 @@ class MumpsSolver final : public LinearSolver {
   void analyze(const SpMat& a) override;
   bool factorize(const SpMat& a) override;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
-  std::string name() const override { return "mumps"; }
+  std::string name() const override {
+    return std::string(options_.unsymmetric ? "mumps-lu" : "mumps") + Arithmetic::suffix +
+           (options_.low_rank ? "-blr" : "");
+  }
   long factor_nonzeros() const override;
   std::string analysis_summary() const override;
-  int negative_eigenvalues() const override { return factored_ ? infog(id_, 12) : -1; }
+  // INFOG(12) counts negative pivots of an LDL^T; an LU gives no inertia.
+  int negative_eigenvalues() const override { return factored_ && !options_.unsymmetric ? infog(12) : -1; }
+  bool exact() const override { return !options_.low_rank && sizeof(Real) == sizeof(double); }
+  std::string failure_detail() const override {
+    return last_status_ < 0 ? "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " +
+                                  std::to_string(last_status2_)
+                            : std::string();
+  }
 
  private:
-  // Coordinates (1-based) of the lower triangle, and where each entry sits in the matrix's values.
+  // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
+  int& icntl(int i) { return id_.icntl[i - 1]; }
+  int infog(int i) const { return id_.infog[i - 1]; }
+  void record_status() {
+    last_status_ = infog(1);
+    last_status2_ = infog(2);
+  }
+
+  MumpsOptions options_;
+  // Coordinates (1-based) of the entries MUMPS reads (the lower triangle for LDL^T, all for LU), and
+  // where each sits in the matrix's values.
   std::vector<int> rows_, cols_;
   std::vector<Eigen::Index> positions_;
-  std::vector<double> values_;
-  std::vector<int> pivot_order_, perm_in_;  // MumpsOptions::pivot_order; PERM_IN, its inverse (1-based)
+  std::vector<Real> values_;
+  std::vector<int> perm_in_;  // PERM_IN (1-based), the inverse of the pivot order
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
-  mutable DMUMPS_STRUC_C id_{};
-  mutable std::vector<double> rhs_;
+  mutable typename Arithmetic::Struct id_{};
+  mutable std::vector<Real> rhs_;
   bool analyzed_ = false, factored_ = false;
-  int analyses_ = 0;
+  int analyses_ = 0, last_status_ = 0, last_status2_ = 0;
 };
 
-void MumpsSolver::analyze(const SpMat& a) {
+template <class Arithmetic>
+void MumpsSolver<Arithmetic>::analyze(const SpMat& a) {
   if (a.rows() != a.cols()) throw std::invalid_argument("MumpsSolver: the matrix is not square");
   rows_.clear();
   cols_.clear();
   positions_.clear();
   for (Eigen::Index j = 0; j < a.outerSize(); ++j)
     for (SpMat::InnerIterator it(a, j); it; ++it)
-      if (it.row() >= j) {
+      if (options_.unsymmetric || it.row() >= j) {
         rows_.push_back(static_cast<int>(it.row()) + 1);
         cols_.push_back(static_cast<int>(j) + 1);
         positions_.push_back(&it.value() - a.valuePtr());
       }
-  values_.assign(positions_.size(), 0.0);
+  values_.assign(positions_.size(), Real(0));
   n_ = a.rows();
   matrix_nonzeros_ = a.nonZeros();
   id_.n = static_cast<int>(n_);
@@ -108,80 +146,92 @@ void MumpsSolver::analyze(const SpMat& a) {
   id_.irn = rows_.data();
   id_.jcn = cols_.data();
   id_.a = values_.data();
-  // PERM_IN(i) is the position of variable i in the pivot order (1-based): the inverse of pivot_order_.
-  const int ordering = icntl(id_, 7);
-  if (static_cast<Eigen::Index>(pivot_order_.size()) == n_) {
-    perm_in_.assign(pivot_order_.size(), 0);
-    for (size_t k = 0; k < pivot_order_.size(); ++k) perm_in_[static_cast<size_t>(pivot_order_[k])] = static_cast<int>(k) + 1;
+  // PERM_IN(i) is the position of variable i in the pivot order (1-based): the inverse of the pivot order.
+  std::vector<int> order = options_.pivot_order;
+  if (options_.cholmod_ordering) order = cholmod_ordering(a);
+  const int ordering = icntl(7);
+  if (static_cast<Eigen::Index>(order.size()) == n_) {
+    perm_in_.assign(order.size(), 0);
+    for (size_t k = 0; k < order.size(); ++k) perm_in_[static_cast<size_t>(order[k])] = static_cast<int>(k) + 1;
     id_.perm_in = perm_in_.data();
-    icntl(id_, 7) = 1;
+    icntl(7) = 1;
   }
   id_.job = 1;
-  dmumps_c(&id_);
-  icntl(id_, 7) = ordering;
-  analyzed_ = infog(id_, 1) >= 0;
+  Arithmetic::call(&id_);
+  icntl(7) = ordering;
+  record_status();
+  analyzed_ = infog(1) >= 0;
   factored_ = false;
   ++analyses_;
 }
 
-bool MumpsSolver::factorize(const SpMat& a) {
+template <class Arithmetic>
+bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
   if (!analyzed_ || a.rows() != n_ || a.nonZeros() != matrix_nonzeros_) analyze(a);
   factored_ = false;
   if (!analyzed_) return false;
   const BlasThreadsForFactor threads(factor_nonzeros());
   const double* v = a.valuePtr();
-  for (size_t k = 0; k < positions_.size(); ++k) values_[k] = v[positions_[k]];
+  for (size_t k = 0; k < positions_.size(); ++k) values_[k] = static_cast<Real>(v[positions_[k]]);
   id_.a = values_.data();
-  const int relaxation = icntl(id_, 14);
+  const int relaxation = icntl(14);
   for (int attempt = 0; attempt < 4; ++attempt) {
     id_.job = 2;
-    dmumps_c(&id_);
-    const int status = infog(id_, 1);
+    Arithmetic::call(&id_);
+    const int status = infog(1);
     if (status != -8 && status != -9) break;
-    icntl(id_, 14) *= 2;
+    icntl(14) *= 2;
   }
-  icntl(id_, 14) = relaxation;
-  factored_ = infog(id_, 1) >= 0;
+  icntl(14) = relaxation;
+  record_status();
+  factored_ = infog(1) >= 0;
   return factored_;
 }
 
-Eigen::VectorXd MumpsSolver::solve(const Eigen::VectorXd& b) const {
+template <class Arithmetic>
+Eigen::VectorXd MumpsSolver<Arithmetic>::solve(const Eigen::VectorXd& b) const {
   if (!factored_ || b.size() != n_) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
   const BlasThreadsForFactor threads(factor_nonzeros());
-  rhs_.assign(b.data(), b.data() + b.size());
+  rhs_.resize(static_cast<size_t>(n_));
+  for (Eigen::Index i = 0; i < n_; ++i) rhs_[static_cast<size_t>(i)] = static_cast<Real>(b[i]);
   id_.rhs = rhs_.data();
   id_.nrhs = 1;
   id_.lrhs = static_cast<int>(n_);
   id_.job = 3;
-  dmumps_c(&id_);
-  if (infog(id_, 1) < 0) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
-  return Eigen::Map<const Eigen::VectorXd>(rhs_.data(), n_);
+  Arithmetic::call(&id_);
+  if (infog(1) < 0) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+  return Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, 1>>(rhs_.data(), n_).template cast<double>();
 }
 
 // INFOG(29): entries in the factors after a factorisation (negative: millions); before, the analysis's
 // estimate INFOG(20) (same convention).
-long MumpsSolver::factor_nonzeros() const {
-  const int value = factored_ ? infog(id_, 29) : analyzed_ ? infog(id_, 20) : 0;
+template <class Arithmetic>
+long MumpsSolver<Arithmetic>::factor_nonzeros() const {
+  const int value = factored_ ? infog(29) : analyzed_ ? infog(20) : 0;
   return value >= 0 ? value : -1000000L * value;
 }
 
 // "<analyses> with <ordering INFOG(7)>, <MB> MB": the memory is what the last factorisation used
-// (INFOG(22)), or the analysis's estimate (INFOG(17)) before one.
-std::string MumpsSolver::analysis_summary() const {
+// (INFOG(22)), or the analysis's estimate (INFOG(17), or INFOG(36) for low-rank) before one.
+template <class Arithmetic>
+std::string MumpsSolver<Arithmetic>::analysis_summary() const {
   if (!analyzed_) return {};
   static const char* const names[] = {"AMD", "the given order", "AMF", "SCOTCH", "PORD", "METIS", "QAMD"};
-  const int ordering = infog(id_, 7);
+  const int ordering = infog(7);
   const std::string method = ordering >= 0 && ordering <= 6 ? names[ordering] : "ordering " + std::to_string(ordering);
-  const int megabytes = factored_ ? infog(id_, 22) : infog(id_, 17);
+  const int megabytes = factored_ ? infog(22) : options_.low_rank ? infog(36) : infog(17);
   return std::to_string(analyses_) + " with " + method + ", " + std::to_string(megabytes) + " MB" +
-         (icntl(id_, 35) > 0 ? ", block low-rank" : "");
+         (options_.low_rank ? ", block low-rank" : "");
 }
 
 }  // namespace
 
 bool mumps_available() { return true; }
 
-std::unique_ptr<LinearSolver> make_mumps(const MumpsOptions& options) { return std::make_unique<MumpsSolver>(options); }
+std::unique_ptr<LinearSolver> make_mumps(const MumpsOptions& options) {
+  if (options.single_precision) return std::make_unique<MumpsSolver<SingleArithmetic>>(options);
+  return std::make_unique<MumpsSolver<DoubleArithmetic>>(options);
+}
 
 #else
 

@@ -133,7 +133,9 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       solver.analyze_if_needed(k, sys.pattern_version());
       factor_valid = false;
       if (!solver.factorize(k)) {
-        rep.failure = "factorization failed (" + solver.name() + ") at iteration " + std::to_string(it);
+        const std::string detail = solver.failure_detail();
+        rep.failure = "factorization failed (" + solver.name() + (detail.empty() ? "" : ": " + detail) +
+                      ") at iteration " + std::to_string(it);
         return rep;
       }
       factor_valid = true;

@@ -2,6 +2,8 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
+#include <string>
+
 #include "solve/direct_solvers.hpp"
 
 namespace fibrane::solve {
@@ -87,29 +89,59 @@ class CholmodSolver final : public LinearSolver {
   int negative_ = -1;  // of the last factorisation; -1 when it failed or none was made
 };
 
+// What an UMFPACK status code means (UMFPACK user guide, "Error codes"); a warning (> 0) is a
+// factorisation Eigen reports as failed, too.
+std::string umfpack_status_text(long status) {
+  switch (status) {
+    case UMFPACK_WARNING_singular_matrix: return "singular matrix (a zero pivot)";
+    case UMFPACK_WARNING_determinant_underflow: return "determinant underflow";
+    case UMFPACK_WARNING_determinant_overflow: return "determinant overflow";
+    case UMFPACK_ERROR_out_of_memory: return "out of memory";
+    case UMFPACK_ERROR_invalid_Numeric_object: return "invalid Numeric object";
+    case UMFPACK_ERROR_invalid_Symbolic_object: return "invalid Symbolic object";
+    case UMFPACK_ERROR_argument_missing: return "argument missing";
+    case UMFPACK_ERROR_n_nonpositive: return "n <= 0";
+    case UMFPACK_ERROR_invalid_matrix: return "invalid matrix";
+    case UMFPACK_ERROR_different_pattern: return "pattern differs from the analysis";
+    case UMFPACK_ERROR_internal_error: return "internal error";
+    default: return "status " + std::to_string(status);
+  }
+}
+
 // UMFPACK keeps pointers to the matrix for iterative refinement in solve(), so the solver owns a copy.
+// Index is int (umfpack_di_*, 32-bit integers) or long (umfpack_dl_*, 64-bit: no integer overflow in
+// its work space at any size).
+template <class Index>
 class UmfpackSolver final : public LinearSolver {
-  struct Lu : Eigen::UmfPackLU<SpMat> {
-    double lu_nonzeros() const { return m_umfpackInfo[UMFPACK_LNZ] + m_umfpackInfo[UMFPACK_UNZ]; }
+  using Matrix = Eigen::SparseMatrix<double, Eigen::ColMajor, Index>;
+  struct Lu : Eigen::UmfPackLU<Matrix> {
+    double lu_nonzeros() const { return this->m_umfpackInfo[UMFPACK_LNZ] + this->m_umfpackInfo[UMFPACK_UNZ]; }
+    long status() const { return static_cast<long>(this->m_fact_errorCode); }
   };
 
  public:
   void analyze(const SpMat& a) override {
     a_ = a;
     lu_.analyzePattern(a_);
+    status_ = lu_.status();
   }
   bool factorize(const SpMat& a) override {
     a_ = a;
     lu_.factorize(a_);
+    status_ = lu_.status();
     return lu_.info() == Eigen::Success;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return lu_.solve(b); }
-  std::string name() const override { return "umfpack"; }
+  std::string name() const override { return sizeof(Index) == 8 ? "umfpack64" : "umfpack"; }
   long factor_nonzeros() const override { return static_cast<long>(lu_.lu_nonzeros()); }
+  std::string failure_detail() const override {
+    return status_ != UMFPACK_OK ? "UMFPACK: " + umfpack_status_text(status_) : std::string();
+  }
 
  private:
-  SpMat a_;
+  Matrix a_;
   Lu lu_;
+  long status_ = UMFPACK_OK;
 };
 
 using CholmodLLT = CholmodSolver<Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>;
@@ -127,6 +159,15 @@ std::vector<int> cholmod_pivot_order(const LinearSolver& solver) {
   return {};
 }
 
-std::unique_ptr<LinearSolver> make_umfpack() { return std::make_unique<UmfpackSolver>(); }
+std::unique_ptr<LinearSolver> make_umfpack(bool long_indices) {
+  if (long_indices) return std::make_unique<UmfpackSolver<long>>();
+  return std::make_unique<UmfpackSolver<int>>();
+}
+
+std::vector<int> cholmod_ordering(const SpMat& a) {
+  CholmodLLT analysis("cholmod");
+  analysis.analyze(a);
+  return analysis.pivot_order();
+}
 
 }  // namespace fibrane::solve

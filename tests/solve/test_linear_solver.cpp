@@ -39,6 +39,9 @@ std::string auto_fallback(const char* without_mumps) {
   return mumps_available() ? "auto(mumps)" : std::string("auto(") + without_mumps + ")";
 }
 
+// The LU that "auto" takes for an unsymmetric matrix.
+std::string lu_name() { return mumps_available() ? "mumps-lu" : "umfpack64"; }
+
 // The symmetric kinds this build has, for the given list.
 std::vector<const char*> available(std::vector<const char*> kinds) {
   if (!mumps_available()) std::erase(kinds, std::string_view("mumps"));
@@ -59,7 +62,9 @@ TEST(LinearSolver, AllKindsAgreeWithDenseLu) {
   std::vector<Case> cases = {
       {"spd", grid_matrix(m, 0.1, 0.0), true, available({"cholmod", "ldlt", "mumps", "umfpack", "auto"})},
       {"indefinite", grid_matrix(m, -1.3, 0.0), true, available({"ldlt", "mumps", "umfpack", "auto"})},
-      {"unsymmetric", grid_matrix(m, 0.1, 0.7), false, {"umfpack", "auto"}},
+      {"unsymmetric", grid_matrix(m, 0.1, 0.7), false,
+       mumps_available() ? std::vector<const char*>{"umfpack", "umfpack64", "mumps-lu", "auto"}
+                         : std::vector<const char*>{"umfpack", "umfpack64", "auto"}},
   };
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(m * m, -1.0, 2.0);
   for (const Case& c : cases) {
@@ -125,7 +130,7 @@ TEST(LinearSolver, AutoFallsBackForLargeIndefiniteMatrices) {
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(a);
   ASSERT_TRUE(automatic->factorize(a));
-  EXPECT_EQ(automatic->name(), auto_fallback("umfpack"));
+  EXPECT_EQ(automatic->name(), auto_fallback("umfpack64"));
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
   // The smallest |eigenvalue| of this shift is ~1e-3 (eigenvalues 4 - 2cos - 2cos - 1.3 on a fine grid
   // pass close to 0), so allow 1e-8 relative residual; a wrong factorisation misses by O(1).
@@ -146,7 +151,7 @@ TEST(LinearSolver, AutoProbesSymmetryOfUnpromisedMatrices) {
   EXPECT_EQ(solver->name(), "symmetric-auto(cholmod)");
   EXPECT_LT((symmetric * solver->solve(b) - b).norm(), 1e-10 * b.norm());
   ASSERT_TRUE(solver->factorize(unsymmetric));
-  EXPECT_EQ(solver->name(), "umfpack");
+  EXPECT_EQ(solver->name(), lu_name());
   EXPECT_LT((unsymmetric * solver->solve(b) - b).norm(), 1e-10 * b.norm());
   ASSERT_TRUE(solver->factorize(symmetric));
   EXPECT_EQ(solver->name(), "symmetric-auto(cholmod)");
@@ -164,7 +169,7 @@ TEST(LinearSolver, AutoProbesSymmetryOfUnpromisedMatrices) {
   lopsided.makeCompressed();
   solver->analyze(lopsided);
   ASSERT_TRUE(solver->factorize(lopsided));
-  EXPECT_EQ(solver->name(), "umfpack");
+  EXPECT_EQ(solver->name(), lu_name());
   EXPECT_LT((lopsided * solver->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
@@ -194,12 +199,27 @@ TEST(LinearSolver, SingularMatrixIsReportedNotSolved) {
     EXPECT_FALSE(solver->factorize(a)) << kind;
     EXPECT_EQ(solver->negative_eigenvalues(), -1) << kind;
   }
+  // The LUs name the library's reason.
+  auto umfpack = make_linear_solver("umfpack", false);
+  umfpack->analyze(a);
+  EXPECT_FALSE(umfpack->factorize(a));
+  EXPECT_EQ(umfpack->failure_detail(), "UMFPACK: singular matrix (a zero pivot)");
+  if (mumps_available()) {
+    auto lu = make_linear_solver("mumps-lu", false);
+    lu->analyze(a);
+    EXPECT_FALSE(lu->factorize(a));
+    EXPECT_EQ(lu->failure_detail().rfind("MUMPS INFOG(1) = -10", 0), 0u) << lu->failure_detail();
+  }
 }
 
 TEST(LinearSolver, BadKindsAreInputErrors) {
   EXPECT_THROW(make_linear_solver("cholmod", false), InputError);
   EXPECT_THROW(make_linear_solver("ldlt", false), InputError);
   EXPECT_THROW(make_linear_solver("mumps", false), InputError);
+  LinearSolverSettings single;
+  single.kind = "cholmod";
+  single.precision = "single";
+  EXPECT_THROW(make_linear_solver(single, true), InputError);  // single precision is MUMPS's
   EXPECT_THROW(make_linear_solver("pardiso", true), InputError);
 }
 
