@@ -42,6 +42,9 @@ struct RunSettings {
 
 struct Case {
   std::string path;
+  // The case file's bytes as read when the case was read: a run never reads the file again, and its
+  // checkpoints carry this text's hash (run/checkpoint.hpp).
+  std::string text;
   std::string name;  // file name without extension
   std::unique_ptr<model::Model> model;
   RunSettings run;

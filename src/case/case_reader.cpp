@@ -9,6 +9,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "io/yaml_guard.hpp"
 #include "io/yaml_parameters.hpp"
 #include "shell/material.hpp"
 
@@ -230,9 +231,10 @@ ConstraintOrigins read_constraints(Model& m, const io::YamlNode& root) {
 }  // namespace
 
 Case read_case(const std::string& path, const solve::Distribution* distribution) {
-  const auto root = io::YamlNode::load_file(path);
-  if (!root.is_map()) root.fail("a map with the keys shells, beams, constraints, loads, steps, ...");
   Case c;
+  c.text = io::read_text_limited(path);  // read once: the run never reads the file again
+  const auto root = io::YamlNode::load_string(c.text, path);
+  if (!root.is_map()) root.fail("a map with the keys shells, beams, constraints, loads, steps, ...");
   c.path = path;
   c.name = std::filesystem::path(path).stem().string();
   c.model = std::make_unique<Model>();

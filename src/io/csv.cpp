@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
+#include "common/hash.hpp"
 
 namespace fibrane::io {
 
@@ -48,7 +49,7 @@ std::string header_line(const std::vector<std::string>& columns) {
 }  // namespace
 
 CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns)
-    : path_(std::move(path)), columns_(std::move(columns)) {
+    : path_(std::move(path)), columns_(std::move(columns)), hash_(kFnv1aOffset) {
   if (columns_.empty()) throw std::invalid_argument(path_ + ": a CSV file needs at least one column");
   fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
   if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot create: {}", path_, std::strerror(errno)));
@@ -75,6 +76,7 @@ CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns, std::si
   if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(end)) != 0)
     throw std::runtime_error(fmt::format("{}: cannot continue it: {}", path_, std::strerror(errno)));
   rows_ = keep_rows;
+  hash_ = fnv1a64(text.data(), end);
 }
 
 CsvWriter::~CsvWriter() {
@@ -105,6 +107,7 @@ void CsvWriter::write_line(const std::string& line) {
     if (n < 0) throw std::runtime_error(fmt::format("{}: write failed: {}", path_, std::strerror(errno)));
     done += static_cast<std::size_t>(n);
   }
+  hash_ = fnv1a64(text, hash_);
 }
 
 }  // namespace fibrane::io

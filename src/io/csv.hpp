@@ -3,6 +3,7 @@
 // formatted in memory and handed to the OS with a single append write, so a killed run leaves at worst
 // a file that ends after the last complete row. Numbers use the shortest text that reads back to the
 // identical double (std::to_chars), i.e. full precision without noise digits.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,8 @@ class CsvWriter {
   const std::vector<std::string>& columns() const { return columns_; }
   const std::string& path() const { return path_; }
   std::size_t rows_written() const { return rows_; }
+  // FNV-1a 64 (common/hash.hpp) of the file's bytes so far: the header and the rows, kept or appended.
+  std::uint64_t content_hash() const { return hash_; }
 
  private:
   void write_line(const std::string& line);
@@ -40,6 +43,7 @@ class CsvWriter {
   std::vector<std::string> columns_;
   int fd_ = -1;
   std::size_t rows_ = 0;
+  std::uint64_t hash_ = 0;
 };
 
 }  // namespace fibrane::io

@@ -106,6 +106,7 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
 OutputPosition RunOutput::position() const {
   OutputPosition p;
   p.history_rows = history_->rows_written();
+  p.history_hash = history_->content_hash();
   for (const auto& s : series_) p.series.push_back(s.entries());
   return p;
 }

@@ -4,6 +4,7 @@
 // (<body>.pvd + vtk/<body>_<step>.vtu) and summary.json. Every file is complete on disk after each step
 // (rows are appended whole, VTK and JSON files are renamed into place).
 #include <Eigen/Dense>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -27,10 +28,11 @@ std::vector<std::string> history_columns(const model::Model& m, bool energy = fa
 // The name of the checkpoint file in a run's output directory (run/checkpoint.hpp).
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 
-// Where a restarted run's output continues: the history rows and the VTK series' entries at the
-// checkpoint (series in the order RunOutput writes them).
+// Where a restarted run's output continues: the history rows (and the hash of the file up to them) and
+// the VTK series' entries at the checkpoint (series in the order RunOutput writes them).
 struct OutputPosition {
   std::size_t history_rows = 0;
+  std::uint64_t history_hash = 0;  // FNV-1a 64 of history.csv's bytes up to the end of those rows
   std::vector<std::vector<io::PvdCollection::Entry>> series;
 };
 

@@ -1,17 +1,24 @@
 #include "run/checkpoint.hpp"
 
-#include <cstdint>
+#include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include <fmt/format.h>
 
 #include "common/error.hpp"
+#include "common/hash.hpp"
 #include "io/checkpoint_file.hpp"
 
 namespace fibrane::run {
 namespace {
+
+// A count stored as a double: a whole number in [0, limit]; InputError otherwise.
+std::size_t whole(const io::CheckpointData& d, const std::string& name, const std::string& what, double limit) {
+  const double v = d.scalar(name, what);
+  if (!(v >= 0 && v <= limit && v == std::floor(v)))
+    throw InputError(fmt::format("{}: the checkpoint entry '{}' is {}, not a count up to {}", what, name, v, limit));
+  return static_cast<std::size_t>(v);
+}
 
 std::string checkpoint_path(const std::string& directory) {
   return (std::filesystem::path(directory) / output::kCheckpointFile).string();
@@ -46,7 +53,7 @@ void put_series(io::CheckpointData& d, const output::OutputPosition& p) {
 }
 
 std::vector<std::vector<io::PvdCollection::Entry>> get_series(const io::CheckpointData& d, const std::string& what) {
-  std::vector<std::vector<io::PvdCollection::Entry>> series(static_cast<std::size_t>(d.scalar("vtk_series", what)));
+  std::vector<std::vector<io::PvdCollection::Entry>> series(whole(d, "vtk_series", what, 1e6));
   for (std::size_t k = 0; k < series.size(); ++k) {
     const auto& times = d.array(fmt::format("vtk.{}.time", k), what);
     const auto& parts = d.array(fmt::format("vtk.{}.part", k), what);
@@ -62,24 +69,38 @@ std::vector<std::vector<io::PvdCollection::Entry>> get_series(const io::Checkpoi
   return series;
 }
 
+// history.csv in `directory` must begin with its header and the `rows` rows the checkpoint vouches for,
+// byte for byte (their hash); rows after them are a killed run's steps after its checkpoint, which the
+// restart cuts off.
+void check_history(const std::string& directory, const std::string& checkpoint, std::size_t rows,
+                   const std::string& hash) {
+  const std::string path = (std::filesystem::path(directory) / "history.csv").string();
+  const std::string text = io::read_regular_file(path, "history");
+  std::size_t end = 0, lines = 0;
+  for (; lines < rows + 1; ++lines) {
+    const std::size_t newline = text.find('\n', end);
+    if (newline == std::string::npos) break;
+    end = newline + 1;
+  }
+  if (lines < rows + 1)
+    throw InputError(fmt::format("{}: it has {} complete rows, the checkpoint ({}) vouches for {}: rows are missing",
+                                 path, lines == 0 ? 0 : lines - 1, checkpoint, rows));
+  if (fmt::format("{:016x}", fnv1a64(text.data(), end)) != hash)
+    throw InputError(fmt::format("{}: its header and first {} rows differ from those the run wrote (their hash is in "
+                                 "{}): the file was edited or damaged",
+                                 path, rows, checkpoint));
+}
+
 }  // namespace
 
-std::string case_fingerprint(const std::string& case_path) {
-  std::ifstream in(case_path, std::ios::binary);
-  if (!in) throw InputError(case_path + ": cannot read the case file to check the checkpoint against it");
-  std::uint64_t h = 14695981039346656037ULL;
-  for (auto it = std::istreambuf_iterator<char>(in); it != std::istreambuf_iterator<char>(); ++it) {
-    h ^= static_cast<unsigned char>(*it);
-    h *= 1099511628211ULL;
-  }
-  return fmt::format("{:016x}", h);
-}
+std::string case_fingerprint(const std::string& case_text) { return fmt::format("{:016x}", fnv1a64(case_text)); }
 
 std::size_t write_checkpoint(const std::string& directory, const casefile::Case& c, const RunCheckpoint& k) {
   io::CheckpointData d;
-  d.texts["case_fingerprint"] = case_fingerprint(c.path);
+  d.texts["case_fingerprint"] = case_fingerprint(c.text);
   d.texts["case_path"] = c.path;
   d.texts["method"] = k.method_name;
+  d.texts["history_hash"] = fmt::format("{:016x}", k.output.history_hash);
   d.arrays["dofs"] = {static_cast<double>(c.model->dofs.size())};
   d.arrays["free_dofs"] = {static_cast<double>(c.model->constraints.num_free())};
   d.arrays["step"] = {static_cast<double>(k.step)};
@@ -98,26 +119,28 @@ std::size_t write_checkpoint(const std::string& directory, const casefile::Case&
 RunCheckpoint read_checkpoint(const std::string& directory, const casefile::Case& c) {
   const std::string path = checkpoint_path(directory);
   const io::CheckpointData d = io::read_checkpoint_file(path);
-  if (d.text("case_fingerprint", path) != case_fingerprint(c.path))
-    throw InputError(fmt::format("{}: written for another case file (or '{}' was changed since: restart needs the "
-                                 "case text the run started with; the checkpoint's run read '{}')",
+  if (d.text("case_fingerprint", path) != case_fingerprint(c.text))
+    throw InputError(fmt::format("{}: written for another case file, or '{}' was changed since: its text differs "
+                                 "from the text the run started with (read from '{}'); restart with the case "
+                                 "file as it was when the run started",
                                  path, c.path, d.text("case_path", path)));
-  if (static_cast<int>(d.scalar("dofs", path)) != c.model->dofs.size() ||
-      static_cast<int>(d.scalar("free_dofs", path)) != c.model->constraints.num_free())
+  if (whole(d, "dofs", path, 2e9) != static_cast<std::size_t>(c.model->dofs.size()) ||
+      whole(d, "free_dofs", path, 2e9) != static_cast<std::size_t>(c.model->constraints.num_free()))
     throw InputError(path + ": its DOF counts differ from the model's (another build of the case)");
   if (d.scalar("completed", path) != 0.0)
     throw InputError(fmt::format("{}: the run completed at t = {} (step {}); there is nothing to continue (run the "
                                  "case without --restart to start anew)",
-                                 path, d.scalar("t", path), static_cast<int>(d.scalar("step", path))));
+                                 path, d.scalar("t", path), whole(d, "step", path, 2e9)));
   RunCheckpoint k;
   k.method_name = d.text("method", path);
-  k.step = static_cast<int>(d.scalar("step", path));
+  k.step = static_cast<int>(whole(d, "step", path, 2e9));
   k.t = d.scalar("t", path);
   const auto& q = d.array("q", path);
   if (static_cast<int>(q.size()) != c.model->constraints.num_free())
     throw InputError(path + ": its unknowns do not fit the model");
   k.q = Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size()));
-  k.output.history_rows = static_cast<std::size_t>(d.scalar("history_rows", path));
+  k.output.history_rows = whole(d, "history_rows", path, 2e9);
+  check_history(directory, path, k.output.history_rows, d.text("history_hash", path));
   k.output.series = get_series(d, path);
   k.stop_peak = d.scalar("stop_peak", path);
   k.limit_points = d.array("limit_points", path);

@@ -232,8 +232,10 @@ void Run::march(RunSummary& summary) {
   // their last step is checkpointed.
   const bool out_of_steps = summary.result.outcome == solve::Outcome::max_steps;
   if ((out_of_steps || summary.interrupted_by) && last_checkpoint_ != last_step_) write_checkpoint(last_step_, last_t_);
-  // A completed run's checkpoint says so: a restart would march past the end (or the stop rule).
-  if (summary.result.completed() && !summary.interrupted_by && c_.output.checkpoint_every > 0)
+  // A completed run's checkpoint says so: a restart would march past the end (or the stop rule). With
+  // checkpoint_every 0 a run writes none unless it has one already (it continues an interrupted run).
+  const bool has_checkpoint = c_.output.checkpoint_every > 0 || last_checkpoint_ >= 0;
+  if (summary.result.completed() && !summary.interrupted_by && has_checkpoint)
     write_checkpoint(last_step_, last_t_, true);
   if (stopped_) summary.result.message = stop_rule_.message();
   if (summary.interrupted_by) {
