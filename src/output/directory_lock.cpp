@@ -101,8 +101,12 @@ DirectoryLock::DirectoryLock(const std::string& directory, bool create) : direct
                                    : fd < 0                 ? std::strerror(error)
                                                             : "it is not a regular file"));
     }
-    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-      const int lock_error = errno;
+    const int lock_error = ::flock(fd, LOCK_EX | LOCK_NB) == 0 ? 0 : errno;
+    if (lock_error == ENOLCK || lock_error == ENOSYS || lock_error == EOPNOTSUPP) {
+      warning_ = fmt::format("{}: the file system does not support locks ({}): nothing stops a second run from "
+                             "writing into this directory at the same time",
+                             path, std::strerror(lock_error));
+    } else if (lock_error != 0) {
       const std::string holder = describe_holder(fd);
       ::close(fd);
       ::close(dir_fd);
@@ -142,6 +146,7 @@ DirectoryLock& DirectoryLock::operator=(DirectoryLock&& other) noexcept {
     directory_ = std::move(other.directory_);
     created_from_ = std::move(other.created_from_);
     created_file_ = other.created_file_;
+    warning_ = std::move(other.warning_);
   }
   return *this;
 }

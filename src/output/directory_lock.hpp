@@ -17,7 +17,8 @@ class DirectoryLock {
   // Locks `directory`, creating it (and its parents) first if `create` is true; with `create` false a
   // missing directory is not locked (there is nothing in it to protect). InputError, exit code 2, if
   // another process holds the lock (naming the directory and that run's pid and host), if the directory
-  // or its lock file is a symbolic link, or if the lock file cannot be created.
+  // or its lock file is a symbolic link, or if the lock file cannot be created. On a file system without
+  // locks the run goes on unlocked (warning()).
   DirectoryLock(const std::string& directory, bool create);
   ~DirectoryLock();
   DirectoryLock(DirectoryLock&& other) noexcept;
@@ -25,7 +26,9 @@ class DirectoryLock {
   DirectoryLock(const DirectoryLock&) = delete;
   DirectoryLock& operator=(const DirectoryLock&) = delete;
 
-  bool locked() const { return fd_ >= 0; }
+  // Not empty if the directory's file system does not support flock (some network and parallel file
+  // systems): the run goes on unlocked, and this says so.
+  const std::string& warning() const { return warning_; }
   // Undoes what locking wrote, for a run refused before it wrote anything else: removes the lock file
   // and the directories locking created, where they did not exist before; releases the lock.
   void abandon();
@@ -37,6 +40,7 @@ class DirectoryLock {
   std::string directory_;
   std::string created_from_;  // the topmost directory locking created ("" if none)
   bool created_file_ = false;
+  std::string warning_;
 };
 
 }  // namespace fibrane::output

@@ -276,6 +276,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
     } catch (const InputError& e) {
       throw InputError(c.path + ": " + e.what());
     }
+    if (!lock.warning().empty()) std::cerr << "fibrane: warning: " << lock.warning() << "\n";
   }
   std::optional<RunCheckpoint> restart;
   std::unique_ptr<Run> started;
