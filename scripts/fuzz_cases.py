@@ -7,6 +7,10 @@ lines; replace a number with an extreme value or another type; rename a key; tru
 garbage bytes; change an indentation; drop or repeat a list item) and runs `fibrane run MUTANT -q
 --threads 1 --max-steps N -o TMP/out` under a time limit and an address-space limit (bash's ulimit -v).
 
+Every fourth mutant runs into an output directory that already holds symbolic links into a sentinel folder
+beside it (history.csv, summary.json and a collection, or the vtk/ folder): the sentinel's files must keep
+their names and content whatever the exit code (nothing is written or removed through a link).
+
 Exit codes 0 (completed), 1 (stopped: a numerical failure) and 2 (bad input) are fine, provided that an
 exit 2 wrote nothing into the output directory. Everything else is a failure: a signal, an abort, a
 timeout, any other exit code, or a sanitizer report on stderr. Failing mutants are saved (--keep) and
@@ -117,6 +121,34 @@ def make_mutant(rng, seeds):
     return name, text, steps
 
 
+def plant_links(folder, out, index):
+    """For every fourth mutant: links in `out` into `folder`/sentinel (files, or the vtk/ folder)."""
+    if index % 4 != 1:
+        return None
+    sentinel = os.path.join(folder, "sentinel")
+    os.makedirs(sentinel)
+    os.makedirs(out)
+    names = ["history.csv", "summary.json", "membrane.pvd", "membrane_000000.vtu", "roof_000000.vtu"]
+    for n in names:
+        with open(os.path.join(sentinel, n), "w") as f:
+            f.write(f"sentinel {n}\n")
+    if index % 8 == 1:
+        os.symlink(sentinel, os.path.join(out, "vtk"))
+    else:
+        for n in names[:3]:
+            os.symlink(os.path.join(sentinel, n), os.path.join(out, n))
+    return snapshot(sentinel)
+
+
+def snapshot(folder):
+    """The names and contents of the files in `folder`."""
+    result = {}
+    for n in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, n), "rb") as f:
+            result[n] = f.read()
+    return result
+
+
 def run_one(args, index, name, text, steps, work):
     """Runs one mutant in its own directory; returns (status, exit code, seconds, stderr, path)."""
     folder = os.path.join(work, f"m{index:05d}")
@@ -125,6 +157,8 @@ def run_one(args, index, name, text, steps, work):
     with open(path, "wb") as f:
         f.write(text)
     out = os.path.join(folder, "out")
+    planted = plant_links(folder, out, index)
+    before = sorted(os.listdir(out)) if planted is not None else []
     limit = f"ulimit -v {args.memory * 1024}; " if args.memory > 0 else ""
     command = (f"{limit}exec '{args.binary}' run '{path}' -q --threads 1 --max-steps {args.max_steps} "
                f"-o '{out}'")
@@ -138,8 +172,10 @@ def run_one(args, index, name, text, steps, work):
     seconds = time.monotonic() - start
     if status == "ok" and any(mark in err for mark in SANITIZER_MARKS):
         status = "sanitizer report"
-    if status == "ok" and code == 2 and os.path.exists(out) and os.listdir(out):
+    if status == "ok" and code == 2 and os.path.exists(out) and sorted(os.listdir(out)) != before:
         status = "bad input wrote output"
+    if status == "ok" and planted is not None and snapshot(os.path.join(folder, "sentinel")) != planted:
+        status = "wrote or removed through a symbolic link"
     if status == "ok":
         shutil.rmtree(folder, ignore_errors=True)
     return status, code, seconds, err, path

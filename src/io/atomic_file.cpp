@@ -1,5 +1,6 @@
 #include "io/atomic_file.hpp"
 
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -8,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <streambuf>
 
 namespace fibrane::io {
 
@@ -22,18 +24,67 @@ std::string make_temporary_path(const std::string& path) {
 
 }  // namespace
 
+// Buffers the stream's characters and writes them to the file descriptor; remembers the first error.
+class AtomicFileWriter::Buffer : public std::streambuf {
+ public:
+  explicit Buffer(int fd) : fd_(fd) { setp(data_, data_ + sizeof data_); }
+  ~Buffer() override { close(); }
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  // Writes what is buffered and closes the descriptor; the errno of the first failure, or 0.
+  int close() {
+    if (fd_ >= 0) {
+      drain();
+      if (::close(fd_) != 0 && error_ == 0) error_ = errno;
+      fd_ = -1;
+    }
+    return error_;
+  }
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (!drain()) return traits_type::eof();
+    if (!traits_type::eq_int_type(c, traits_type::eof())) {
+      *pptr() = traits_type::to_char_type(c);
+      pbump(1);
+    }
+    return traits_type::not_eof(c);
+  }
+  int sync() override { return drain() ? 0 : -1; }
+
+ private:
+  bool drain() {
+    const char* p = pbase();
+    while (error_ == 0 && p < pptr()) {
+      const ssize_t n = ::write(fd_, p, static_cast<std::size_t>(pptr() - p));
+      if (n < 0 && errno == EINTR) continue;
+      if (n < 0) error_ = errno;
+      else p += n;
+    }
+    setp(data_, data_ + sizeof data_);
+    return error_ == 0;
+  }
+
+  int fd_;
+  int error_ = 0;
+  char data_[1 << 16];
+};
+
 AtomicFileWriter::AtomicFileWriter(std::string path)
-    : path_(std::move(path)), temporary_path_(make_temporary_path(path_)) {
-  stream_.open(temporary_path_, std::ios::binary | std::ios::trunc);
-  if (!stream_) {
+    : path_(std::move(path)), temporary_path_(make_temporary_path(path_)), stream_(nullptr) {
+  const int fd = ::open(temporary_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) {
     throw std::runtime_error(
         fmt::format("{}: cannot create temporary file: {}", temporary_path_, std::strerror(errno)));
   }
+  buffer_ = std::make_unique<Buffer>(fd);
+  stream_.rdbuf(buffer_.get());
 }
 
 AtomicFileWriter::~AtomicFileWriter() {
   if (!committed_) {
-    stream_.close();
+    buffer_->close();
     std::remove(temporary_path_.c_str());
   }
 }
@@ -41,15 +92,17 @@ AtomicFileWriter::~AtomicFileWriter() {
 void AtomicFileWriter::commit() {
   if (committed_) throw std::logic_error(path_ + ": AtomicFileWriter committed twice");
   stream_.flush();
-  stream_.close();
-  if (stream_.fail()) {
+  const int error = buffer_->close();
+  if (error != 0 || stream_.fail()) {
     std::remove(temporary_path_.c_str());
-    throw std::runtime_error(fmt::format("{}: write failed", temporary_path_));
+    throw std::runtime_error(fmt::format("{}: write failed: {}", temporary_path_,
+                                         error != 0 ? std::strerror(error) : "stream error"));
   }
   if (std::rename(temporary_path_.c_str(), path_.c_str()) != 0) {
-    const int error = errno;
+    const int rename_error = errno;
     std::remove(temporary_path_.c_str());
-    throw std::runtime_error(fmt::format("{}: cannot rename into place: {}", path_, std::strerror(error)));
+    throw std::runtime_error(
+        fmt::format("{}: cannot rename into place: {}", path_, std::strerror(rename_error)));
   }
   committed_ = true;
 }

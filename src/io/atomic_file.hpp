@@ -2,8 +2,11 @@
 // Write-to-temporary-then-rename: readers (ParaView, plotting scripts, a later restart) see either the
 // old complete file or the new complete file, never a half-written one, even if the run is killed.
 // The temporary lives in the same directory as the target, because rename(2) is only atomic within one
-// file system.
-#include <fstream>
+// file system. The temporary is a new regular file (O_CREAT | O_EXCL | O_NOFOLLOW: never an existing file
+// or a symbolic link's target), and rename replaces whatever is at the target's name (a link included)
+// without writing to it: nothing is ever written through a link or into another name of a hard-linked file.
+#include <memory>
+#include <ostream>
 #include <string>
 
 namespace fibrane::io {
@@ -34,10 +37,13 @@ class AtomicFileWriter {
   const std::string& path() const { return path_; }
   const std::string& temporary_path() const { return temporary_path_; }
 
+  class Buffer;  // a stream buffer over the temporary's file descriptor
+
  private:
   std::string path_;
   std::string temporary_path_;
-  std::ofstream stream_;
+  std::unique_ptr<Buffer> buffer_;
+  std::ostream stream_;
   bool committed_ = false;
 };
 

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -14,6 +15,7 @@
 
 #include "common/error.hpp"
 #include "common/hash.hpp"
+#include "io/atomic_file.hpp"
 
 namespace fibrane::io {
 
@@ -51,14 +53,15 @@ std::string header_line(const std::vector<std::string>& columns) {
 CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns)
     : path_(std::move(path)), columns_(std::move(columns)), hash_(kFnv1aOffset) {
   if (columns_.empty()) throw std::invalid_argument(path_ + ": a CSV file needs at least one column");
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot create: {}", path_, std::strerror(errno)));
-  write_line(header_line(columns_));
+  start(header_line(columns_) + "\n");
 }
 
 CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns, std::size_t keep_rows)
     : path_(std::move(path)), columns_(std::move(columns)) {
   const std::string header = header_line(columns_);
+  struct stat st {};
+  if (::lstat(path_.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw InputError(path_ + ": cannot continue it: it is not a regular file (a symbolic link or another kind)");
   std::ifstream in(path_, std::ios::binary);
   if (!in) throw InputError(path_ + ": cannot continue it: the file cannot be read");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -72,11 +75,17 @@ CsvWriter::CsvWriter(std::string path, std::vector<std::string> columns, std::si
                                    k, keep_rows));
     end = newline + 1;
   }
-  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-  if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(end)) != 0)
-    throw std::runtime_error(fmt::format("{}: cannot continue it: {}", path_, std::strerror(errno)));
+  start(text.substr(0, end));
   rows_ = keep_rows;
-  hash_ = fnv1a64(text.data(), end);
+}
+
+void CsvWriter::start(const std::string& content) {
+  // A new file with the content, renamed onto the name: whatever was there (a symbolic link, another name of
+  // a hard-linked file) is replaced, not written to.
+  write_file_atomic(path_, content);
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_APPEND | O_NOFOLLOW | O_CLOEXEC);
+  if (fd_ < 0) throw std::runtime_error(fmt::format("{}: cannot open: {}", path_, std::strerror(errno)));
+  hash_ = fnv1a64(content);
 }
 
 CsvWriter::~CsvWriter() {

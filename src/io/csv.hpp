@@ -17,11 +17,13 @@ std::string csv_field(const std::string& text);
 
 class CsvWriter {
  public:
-  // Creates (truncates) `path` and writes the header line.
+  // Creates `path` as a new file holding the header line (replacing whatever had the name, never writing
+  // through it: io/atomic_file.hpp).
   CsvWriter(std::string path, std::vector<std::string> columns);
   // Continues an existing file (a restarted run): its header must name `columns`; its first `keep_rows`
-  // rows are kept, anything after them is cut off, and rows() appends. Throws InputError naming the file
-  // if the header differs or it has fewer complete rows.
+  // rows are kept (in a new file renamed onto the name), anything after them is cut off, and rows()
+  // appends. Throws InputError naming the file if it is not a regular file (a symbolic link), the header
+  // differs or it has fewer complete rows.
   CsvWriter(std::string path, std::vector<std::string> columns, std::size_t keep_rows);
   ~CsvWriter();
   CsvWriter(const CsvWriter&) = delete;
@@ -37,6 +39,7 @@ class CsvWriter {
   std::uint64_t content_hash() const { return hash_; }
 
  private:
+  void start(const std::string& content);  // the file with `content`, opened for appending
   void write_line(const std::string& line);
 
   std::string path_;

@@ -1,13 +1,16 @@
 #include "output/run_output.hpp"
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
-#include <fmt/format.h>
 
 #include "common/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json.hpp"
 #include "output/body_vtk.hpp"
+#include "output/manifest.hpp"
 
 namespace fibrane::output {
 
@@ -48,12 +51,13 @@ std::vector<std::string> vtk_series_names(const casefile::Case& c) {
   return names;
 }
 
-// A run into a directory that holds an earlier run's output removes that run's per-step files and summary
-// first: otherwise a longer earlier run leaves steps beyond this run's end beside it (ParaView would not
-// show them, but a script reading the folder would), and an interrupted run would keep a summary saying
-// "completed"; a collection of another VTK choice (a <body>_sampled.pvd beside a Bezier-only run) would
-// point at removed files. Only names this case writes (<name>[_sampled].pvd, <name>[_sampled]_<6 digits>.vtu,
-// <name>_<6 digits>.csv, summary.json, checkpoint.bin) are touched; history.csv is rewritten.
+// A run into a directory that holds an earlier run's output removes that run's files first: otherwise a
+// longer earlier run leaves steps beyond this run's end beside it, a run of another case leaves its other
+// bodies' and interactions' files, an interrupted run keeps a summary saying "completed", and a collection
+// of another VTK choice points at removed files. The files the earlier run's manifest lists are removed
+// (output/manifest.hpp), and, for a directory without a manifest, the names this case writes
+// (<name>[_sampled].pvd, <name>[_sampled]_<6 digits>.vtu, <name>_<6 digits>.csv, summary.json,
+// checkpoint.bin); history.csv is replaced. Only regular files are removed, none through a link.
 void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m) {
   namespace fs = std::filesystem;
   std::vector<std::string> names = output_names(m);
@@ -65,15 +69,37 @@ void remove_earlier_run(const std::filesystem::path& dir, const model::Model& m)
     if (digits.find_first_not_of("0123456789") != std::string::npos) return false;
     return std::find(names.begin(), names.end(), stem.substr(0, stem.size() - 7)) != names.end();
   };
-  std::error_code ec;
-  fs::remove(dir / "summary.json", ec);
-  fs::remove(dir / kCheckpointFile, ec);
-  for (const auto& n : names) fs::remove(dir / (n + ".pvd"), ec);
+  std::vector<std::string> known{"summary.json", kCheckpointFile};
+  for (const auto& n : names) known.push_back(n + ".pvd");
   for (const auto& [sub, ext] : {std::pair{"vtk", ".vtu"}, std::pair{"interaction", ".csv"}}) {
-    if (!fs::is_directory(dir / sub)) continue;
-    for (const auto& entry : fs::directory_iterator(dir / sub))
-      if (entry.is_regular_file() && is_step_file(entry.path(), ext)) fs::remove(entry.path(), ec);
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(dir / sub, ec))) continue;
+    for (const auto& entry : fs::directory_iterator(dir / sub, ec))
+      if (is_step_file(entry.path(), ext)) known.push_back(std::string(sub) + "/" + entry.path().filename().string());
   }
+  remove_listed_files(dir.string(), read_manifest(dir.string()));
+  remove_listed_files(dir.string(), known);
+  for (const char* sub : {"vtk", "interaction"}) ::rmdir((dir / sub).c_str());  // if empty
+}
+
+// The entries a run writes through: vtk/ and interaction/ must be real directories (or absent), and a
+// restart's history.csv a regular file. InputError before anything is written otherwise.
+void check_entries(const std::filesystem::path& dir, bool resume) {
+  namespace fs = std::filesystem;
+  for (const char* sub : {"vtk", "interaction"}) {
+    std::error_code ec;
+    const fs::file_status s = fs::symlink_status(dir / sub, ec);
+    if (fs::is_symlink(s))
+      throw InputError((dir / sub).string() + ": is a symbolic link; fibrane writes and removes files only inside "
+                       "the output directory (remove the link, or choose another output directory)");
+    if (fs::exists(s) && !fs::is_directory(s))
+      throw InputError((dir / sub).string() + ": exists and is not a directory");
+  }
+  std::error_code ec;
+  const fs::file_status history = fs::symlink_status(dir / "history.csv", ec);
+  if (resume && fs::exists(history) && !fs::is_regular_file(history))
+    throw InputError((dir / "history.csv").string() + ": cannot continue it: it is not a regular file (a symbolic "
+                     "link or another kind)");
 }
 
 }  // namespace
@@ -84,16 +110,26 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
   const std::string history = (fs::path(dir_) / "history.csv").string();
   energy_ = c.run.method == casefile::Method::dynamics;
   const std::vector<std::string> names = c.output.vtk ? vtk_series_names(c) : std::vector<std::string>{};
+  if (resume && resume->series.size() != names.size())
+    throw InputError(dir_ + ": the checkpoint's VTK series do not match the case's output settings");
+  check_entries(dir_, resume != nullptr);
+  std::vector<std::string> listed{"history.csv", "summary.json", kCheckpointFile};
+  for (const auto& n : names) listed.push_back(n + ".pvd");
+  if (resume) {
+    const std::vector<std::string> earlier = read_manifest(dir_);
+    remove_listed_files(dir_, earlier, true);
+    listed.insert(listed.end(), earlier.begin(), earlier.end());
+  } else {
+    remove_earlier_run(dir_, *c.model);
+  }
+  manifest_ = std::make_unique<Manifest>(dir_, listed);
   fs::create_directories(fs::path(dir_) / "vtk");
   if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
   if (resume) {
-    if (resume->series.size() != names.size())
-      throw InputError(dir_ + ": the checkpoint's VTK series do not match the case's output settings");
     std::error_code ec;
     fs::remove(fs::path(dir_) / "summary.json", ec);
     history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_), resume->history_rows);
   } else {
-    remove_earlier_run(dir_, *c.model);
     history_ = std::make_unique<io::CsvWriter>(history, history_columns(*c.model, energy_));
   }
   for (std::size_t k = 0; k < names.size(); ++k) {
@@ -102,6 +138,8 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
     else series_.emplace_back(pvd);
   }
 }
+
+RunOutput::~RunOutput() = default;
 
 OutputPosition RunOutput::position() const {
   OutputPosition p;
@@ -163,6 +201,7 @@ void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
   std::size_t k = 0;
   auto write = [&](const std::string& name, const io::VtuMesh& mesh) {
     const std::string rel = fmt::format("vtk/{}_{:06d}.vtu", name, r.step);
+    manifest_->add(rel);
     io::write_vtu((std::filesystem::path(dir_) / rel).string(), mesh);
     series_[k++].add(r.t, rel);
   };
@@ -206,8 +245,9 @@ void RunOutput::write_coupling_csv(const model::Coupling& c, int step) const {
                         io::format_double(p.force.y()), io::format_double(p.force.z()),
                         io::format_double(p.force.norm()), io::format_double(p.energy_density), p.soft ? 1 : 0);
   }
-  io::write_file_atomic(
-      (std::filesystem::path(dir_) / "interaction" / fmt::format("{}_{:06d}.csv", c.name(), step)).string(), text);
+  const std::string rel = fmt::format("interaction/{}_{:06d}.csv", c.name(), step);
+  manifest_->add(rel);
+  io::write_file_atomic((std::filesystem::path(dir_) / rel).string(), text);
 }
 
 io::JsonValue RunOutput::interactions_json(const model::Model& m) const {

@@ -1,8 +1,10 @@
 #pragma once
 // Everything a run leaves in its output directory: history.csv (one row per converged step), the
 // interaction data along each beam per step (interaction/<name>_<step>.csv), a VTK time series per body
-// (<body>.pvd + vtk/<body>_<step>.vtu) and summary.json. Every file is complete on disk after each step
-// (rows are appended whole, VTK and JSON files are renamed into place).
+// (<body>.pvd + vtk/<body>_<step>.vtu), summary.json, and the manifest listing all of them
+// (output/manifest.hpp). Every file is complete on disk after each step (rows are appended whole, VTK and
+// JSON files are renamed into place), and each is a regular file created in the directory: nothing is
+// written or removed through a symbolic link. The caller holds the directory's lock (directory_lock.hpp).
 #include <Eigen/Dense>
 #include <cstdint>
 #include <memory>
@@ -17,6 +19,8 @@
 #include "solve/continuation.hpp"
 
 namespace fibrane::output {
+
+class Manifest;
 
 // Column names of history.csv: step, t, load factor, iterations, residual, the number of negative
 // eigenvalues of the tangent at the step's end (-1: the solver does not tell), whether t passed an
@@ -38,11 +42,14 @@ struct OutputPosition {
 
 class RunOutput {
  public:
-  // A new run: removes an earlier run's step files, summary and checkpoint from `directory` (see
-  // run_output.cpp), creates it. A restarted run (`resume`): keeps the directory's files, cuts
-  // history.csv back to resume->history_rows rows, continues the VTK series from resume->series and
-  // removes only summary.json. InputError if the history or the series do not fit the case.
+  // A new run: removes an earlier run's files from `directory` (those its manifest lists, and this case's
+  // names: see run_output.cpp), creates it. A restarted run (`resume`): keeps the directory's files,
+  // cuts history.csv back to resume->history_rows rows, continues the VTK series from resume->series and
+  // the manifest, and removes only summary.json. InputError, before anything is written, if vtk/ or
+  // interaction/ is a symbolic link or not a directory, if the earlier manifest is damaged, or if the
+  // history or the series do not fit the case.
   RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume = nullptr);
+  ~RunOutput();
   // Writes the state of the model's last evaluate() as step `report.step`: a history row and the
   // interaction CSVs.
   void write_history(const model::Model& m, const solve::StepReport& report);
@@ -75,6 +82,7 @@ class RunOutput {
   std::string dir_;
   std::vector<model::Observable> observables_;
   bool energy_ = false;
+  std::unique_ptr<Manifest> manifest_;
   std::unique_ptr<io::CsvWriter> history_;
   std::vector<io::PvdCollection> series_;
   std::vector<InteractionRecord> interactions_;

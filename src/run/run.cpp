@@ -14,6 +14,7 @@
 #include "common/format.hpp"
 #include "io/progress.hpp"
 #include "model/observables.hpp"
+#include "output/directory_lock.hpp"
 #include "output/run_output.hpp"
 #include "run/checkpoint.hpp"
 #include "run/interrupt.hpp"
@@ -268,10 +269,28 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
   check_output_directory(c, summary.directory);
   check_finite_model(c);
+  // One run per directory, from before its first write to its exit; a distributed run's first process
+  // writes and locks. A run refused before it starts leaves no lock file or directory behind.
+  output::DirectoryLock lock;
+  if (!c.model->distribution() || c.model->distribution()->rank() == 0) {
+    try {
+      lock = output::DirectoryLock(summary.directory, !options.restart);
+    } catch (const InputError& e) {
+      throw InputError(c.path + ": " + e.what());
+    }
+    if (!lock.warning().empty()) std::cerr << "fibrane: warning: " << lock.warning() << "\n";
+  }
   std::optional<RunCheckpoint> restart;
-  if (options.restart) restart = read_checkpoint(summary.directory, c);
-  c.model->evaluate(c.model->initial_unknowns(), c.run.steps.t_start, false);  // the initial state
-  Run run(c, options, summary.directory, restart);
+  std::unique_ptr<Run> started;
+  try {
+    if (options.restart) restart = read_checkpoint(summary.directory, c);
+    c.model->evaluate(c.model->initial_unknowns(), c.run.steps.t_start, false);  // the initial state
+    started = std::make_unique<Run>(c, options, summary.directory, restart);
+  } catch (const InputError&) {
+    lock.abandon();
+    throw;
+  }
+  Run& run = *started;
   run.march(summary);
   summary.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   io::JsonValue extra = io::JsonValue::object();

@@ -8,6 +8,7 @@
 #include <limits>
 #include <random>
 
+#include "common/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 #include "io/scratch_dir.hpp"
@@ -77,6 +78,44 @@ TEST(AtomicFile, UncommittedWriterLeavesOldFile) {
 TEST(AtomicFile, UnwritableDirectoryThrows) {
   testing::ScratchDir dir;
   EXPECT_THROW(write_file_atomic(dir.file("no/such/dir/file.txt"), "x"), std::runtime_error);
+}
+
+// A symbolic link or a second hard link at the target's name is replaced by a new file: the link's target
+// and the other name keep their content.
+TEST(AtomicFile, ReplacesLinksWithoutWritingThroughThem) {
+  testing::ScratchDir dir;
+  testing::write_text(dir.file("target"), "precious");
+  std::filesystem::create_symlink(dir.file("target"), dir.file("linked.json"));
+  write_file_atomic(dir.file("linked.json"), "new");
+  EXPECT_EQ(testing::read_text(dir.file("target")), "precious");
+  EXPECT_TRUE(std::filesystem::is_regular_file(std::filesystem::symlink_status(dir.file("linked.json"))));
+  EXPECT_EQ(testing::read_text(dir.file("linked.json")), "new");
+  std::filesystem::create_hard_link(dir.file("target"), dir.file("hard.vtu"));
+  write_file_atomic(dir.file("hard.vtu"), "replaced");
+  EXPECT_EQ(testing::read_text(dir.file("target")), "precious");
+  EXPECT_EQ(testing::read_text(dir.file("hard.vtu")), "replaced");
+}
+
+// A new history file replaces a link at its name, and a continued one too; a continued history that is a
+// symbolic link is refused.
+TEST(Csv, NeverWritesThroughALink) {
+  testing::ScratchDir dir;
+  testing::write_text(dir.file("target"), "precious");
+  std::filesystem::create_symlink(dir.file("target"), dir.file("history.csv"));
+  EXPECT_THROW(CsvWriter(dir.file("history.csv"), {"step"}, 0), InputError);
+  {
+    CsvWriter csv(dir.file("history.csv"), {"step"});
+    csv.row({0.0});
+  }
+  EXPECT_EQ(testing::read_text(dir.file("target")), "precious");
+  EXPECT_EQ(testing::read_text(dir.file("history.csv")), "step\n0\n");
+  std::filesystem::create_hard_link(dir.file("history.csv"), dir.file("copy.csv"));
+  {
+    CsvWriter csv(dir.file("history.csv"), {"step"}, 1);
+    csv.row({1.0});
+  }
+  EXPECT_EQ(testing::read_text(dir.file("copy.csv")), "step\n0\n");
+  EXPECT_EQ(testing::read_text(dir.file("history.csv")), "step\n0\n1\n");
 }
 
 TEST(Csv, HeaderAndRowsRoundTripBitwise) {
