@@ -264,7 +264,8 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
-  check_output_directory(c, summary.directory);
+  check_output_directory(c, summary.directory,
+                         options.output_directory.empty() ? "output.directory" : options.restart ? "--restart" : "-o");
   check_finite_model(c);
   std::optional<RunCheckpoint> restart;
   if (options.restart) restart = read_checkpoint(summary.directory, c);
