@@ -40,11 +40,16 @@ AtomicFileWriter::~AtomicFileWriter() {
 
 void AtomicFileWriter::commit() {
   if (committed_) throw std::logic_error(path_ + ": AtomicFileWriter committed twice");
+  // The stream keeps no error code: errno is that of the write(2) that failed (a failed stream writes no more).
+  int error = stream_.fail() ? errno : 0;
   stream_.flush();
+  if (!error && stream_.fail()) error = errno;
   stream_.close();
+  if (!error && stream_.fail()) error = errno;
   if (stream_.fail()) {
     std::remove(temporary_path_.c_str());
-    throw std::runtime_error(fmt::format("{}: write failed", temporary_path_));
+    throw std::runtime_error(
+        fmt::format("{}: write failed: {}", temporary_path_, error ? std::strerror(error) : "unknown error"));
   }
   if (std::rename(temporary_path_.c_str(), path_.c_str()) != 0) {
     const int error = errno;
