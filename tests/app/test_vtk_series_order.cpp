@@ -4,6 +4,7 @@
 // carries as field data is history.csv's t of that step. The case: the shallow roof example at a coarse
 // mesh, whose path passes a maximum and a minimum of t (snap-through).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <regex>
@@ -41,7 +42,7 @@ std::vector<double> history_t(const fs::path& csv) {
 TEST(VtkSeries, ArcLengthSeriesPlaysInPathOrderWithTAsFieldData) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
   if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3-vtk9 missing";
-  const fs::path dir = fs::temp_directory_path() / "fibrane-series-order";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-series-order-" + std::to_string(::getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::string yaml = slurp(fs::path(FIBRANE_SOURCE_DIR) / "examples" / "shallow-roof.yaml");
@@ -77,6 +78,7 @@ TEST(VtkSeries, ArcLengthSeriesPlaysInPathOrderWithTAsFieldData) {
   EXPECT_EQ(count, t.size()) << read.output;  // every step written (vtk_every 1)
   for (std::size_t i = 1; i < timesteps.size(); ++i)
     EXPECT_LT(timesteps[i - 1], timesteps[i]) << "timesteps must increase strictly: " << i;
+  fs::remove_all(dir);
 }
 
 }  // namespace
