@@ -1,7 +1,7 @@
 // What a run meets outside its case file: an output directory that cannot be created is bad input (exit 2,
 // naming the option, the path and the system's reason, nothing written); a write that fails mid-run names
 // the system's reason; and two runs with the same number of threads give bit-identical histories (the
-// assembly's sums do not depend on which thread finishes first).
+// assembly's sums do not depend on which thread finishes first), a restarted one included.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -105,6 +105,22 @@ TEST(RunEnvironment, TwoRunsWithTwoThreadsAreBitIdentical) {
     else EXPECT_EQ(history, first) << "run " << k << " differs from run 0";
   }
   EXPECT_GT(std::count(first.begin(), first.end(), '\n'), 3);  // the initial state and 4 steps
+  fs::remove_all(dir);
+}
+
+// The restart promise holds bit for bit with several threads: a run stopped after 2 steps and restarted,
+// both with --threads 2, writes the uninterrupted 2-thread run's history.
+TEST(RunEnvironment, RestartWithTwoThreadsIsBitIdentical) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fresh_dir("restart-threads");
+  const std::string case_file = "'" + (dir / "case.yaml").string() + "'";
+  std::ofstream(dir / "case.yaml") << kPressedFiber;
+  ASSERT_EQ(run_cli("run " + case_file + " -q --threads 2 -o '" + (dir / "whole").string() + "'").exit_code, 0);
+  const auto part = run_cli("run " + case_file + " -q --threads 2 --max-steps 2 -o '" + (dir / "part").string() + "'");
+  ASSERT_EQ(part.exit_code, 1) << part.output;
+  const auto rest = run_cli("run " + case_file + " -q --threads 2 --restart '" + (dir / "part").string() + "'");
+  ASSERT_EQ(rest.exit_code, 0) << rest.output;
+  EXPECT_EQ(slurp(dir / "part" / "history.csv"), slurp(dir / "whole" / "history.csv"));
   fs::remove_all(dir);
 }
 
