@@ -36,9 +36,9 @@ void check_output_directory(const casefile::Case& c, const std::string& director
   // Permissions do not tell everything (/proc, /sys, full or read-only file systems): create and remove what
   // the run would create first, the output directory or a file in it.
   if (!missing.empty()) {
-    if (::mkdir(missing.c_str(), 0755) != 0)
+    if (::mkdir(missing.c_str(), 0755) == 0) ::rmdir(missing.c_str());
+    else if (errno != EEXIST)  // EEXIST: another process of a distributed run probes at the same time
       throw InputError(where + ": cannot create the directory '" + missing.string() + "': " + std::strerror(errno));
-    ::rmdir(missing.c_str());
     return;
   }
   const fs::path probe = p / (".fibrane-probe-" + std::to_string(::getpid()));
