@@ -1,11 +1,11 @@
 #include "model/beam_body.hpp"
-#include "model/ordered_sum.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "model/ordered_sum.hpp"
 #include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
@@ -144,7 +144,7 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
   const bool with_tangent = sink.with_tangent();
   const auto g = spline::gauss_legendre(gauss());
   const int n_elements = static_cast<int>(elements.size());
-  OrderedSum sum;  // a static schedule and an ordered sum: the same bits in every run (ordered_sum.hpp)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
 #pragma omp parallel
   {
     double energy = 0.0;

@@ -1,5 +1,4 @@
 #include "model/coupling.hpp"
-#include "model/ordered_sum.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "model/beam_body.hpp"
+#include "model/ordered_sum.hpp"
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
@@ -245,7 +245,7 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
   const bool with_tangent = sink.with_tangent();
   const int n_pairs = static_cast<int>(pairs_.size());
   const bool need_third = formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact;
-  OrderedSum sum;  // a static schedule and an ordered sum: the same bits in every run (ordered_sum.hpp)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
 #pragma omp parallel reduction(|| : bad)
   {
     double energy = 0;

@@ -115,7 +115,7 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   const solve::DofMap& dofs = state.dofs;
   const bool with_tangent = sink.with_tangent();
   const double beta = this->beta();
-  OrderedSum sum;  // a static schedule and an ordered sum: the same bits in every run (ordered_sum.hpp)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
 #pragma omp parallel reduction(|| : bad)
   {
     double energy = 0;

@@ -1,8 +1,8 @@
 #include "model/shell_body.hpp"
-#include "model/ordered_sum.hpp"
 
 #include <omp.h>
 
+#include "model/ordered_sum.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
@@ -66,7 +66,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
   for (int e = 0; e < n_elements; e += n_u)  // the first element of each row
     for (double g : gv.points)
       along_v.push_back(at_gauss(surface.knots(1), elements[e].span_v, elements[e].v0, elements[e].v1, g));
-  OrderedSum sum;  // a static schedule and an ordered sum: the same bits in every run (ordered_sum.hpp)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
 #pragma omp parallel
   {
     double energy = 0.0;
