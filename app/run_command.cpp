@@ -36,8 +36,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
       ->check(CLI::Range(1, 1024));
   cmd->add_flag("-q,--quiet", opt->run.quiet, "No progress line");
-  cmd->add_option("--max-steps", opt->max_steps, "Stop after at most this many steps (default: the case's steps.max_steps)")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-steps", opt->max_steps,
+                  "Stop after at most this many steps, at least 1 (default: the case's steps.max_steps)")
+      ->check(CLI::Range(1, 100'000'000));
   cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) on stderr");
   if (mpi_available())
     cmd->add_option("--mpi-solver", opt->mpi_solver,

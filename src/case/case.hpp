@@ -1,5 +1,6 @@
 #pragma once
 // What a run is: the model built from a case file, how to march along its path, and what to write.
+#include <map>
 #include <memory>
 #include <string>
 
@@ -49,6 +50,13 @@ struct Case {
   std::unique_ptr<model::Model> model;
   RunSettings run;
   OutputSettings output;
+  // Where each body is defined in the case file (its entry's path, e.g. "shells[0]", and line), by body
+  // name: checks after reading (run/run_checks.hpp) locate what they find in a body there.
+  struct Origin {
+    std::string path;
+    int line = 0;
+  };
+  std::map<std::string, Origin> body_origins;
 };
 
 }  // namespace fibrane::casefile

@@ -37,6 +37,9 @@ void read_functions(Model& m, const io::YamlNode& node) {
               "{smooth_ramp: {slope, duration}}");
   for (const auto& name : node.keys()) {
     const auto f = node[name];
+    if (m.functions.find(name) >= 0)  // only the built-in ones exist before this loop
+      f.fail_message("'" + name + "' is a built-in load function (f(t) = t) and cannot be redefined: choose "
+                     "another name");
     if (auto l = f.optional("linear")) {
       m.functions.add(name, LoadFunction::linear(l->as_double()));
     } else if (auto c = f.optional("constant")) {
@@ -176,8 +179,11 @@ void read_interaction(Model& m, const io::YamlNode& node) {
   const auto formulation = f == "FF" ? interaction::Formulation::FF
                            : f == "RF1" ? interaction::Formulation::RF1 : interaction::Formulation::RF2;
   auto ff_tangent = interaction::FfTangent::exact;
-  if (auto t = node.optional("ff_tangent"))
+  if (auto t = node.optional("ff_tangent")) {
+    if (formulation != interaction::Formulation::FF)
+      t->fail_message("ff_tangent chooses the tangent of the FF formulation only; this interaction uses " + f);
     ff_tangent = t->as_choice({"exact", "rf1"}) == "rf1" ? interaction::FfTangent::rf1 : interaction::FfTangent::exact;
+  }
   auto law = read_interaction_law(node, {b->section_radius, shell->section.thickness});
   double soft_width = 0, soft_below = 0;
   if (auto soft = node.optional("soft_minimum")) {
@@ -241,8 +247,14 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
   Model& m = *c.model;
   m.title = root.get("title", c.name);
   if (auto f = root.optional("functions")) read_functions(m, *f);
-  for_each_entry(root.optional("shells"), [&](const io::YamlNode& n) { read_shell(m, n); });
-  for_each_entry(root.optional("beams"), [&](const io::YamlNode& n) { read_beam(m, n); });
+  for_each_entry(root.optional("shells"), [&](const io::YamlNode& n) {
+    read_shell(m, n);
+    c.body_origins[m.shells.back().name()] = {n.path(), n.line()};
+  });
+  for_each_entry(root.optional("beams"), [&](const io::YamlNode& n) {
+    read_beam(m, n);
+    c.body_origins[m.beams.back().name()] = {n.path(), n.line()};
+  });
   if (m.shells.empty() && m.beams.empty()) root.fail_message("the case defines no body: add 'shells' or 'beams'");
   check_output_names(m, root);
   const ConstraintOrigins origins = read_constraints(m, root);

@@ -77,6 +77,7 @@ std::vector<Site> beam_sites(const model::BeamBody& b, const io::YamlNode& at) {
 
 std::vector<Site> sites(const Model& m, const BodyRef& b, const io::YamlNode& at) {
   if (at.is_sequence()) {  // a list of places: their union, in order
+    if (at.size() == 0) at.fail("a non-empty list of places such as [{edge: u0}, {corner: [1, 1]}]");
     std::vector<Site> all;
     for (std::size_t i = 0; i < at.size(); ++i)
       for (auto& s : sites(m, b, at.at(i))) all.push_back(std::move(s));

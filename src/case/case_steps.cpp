@@ -18,14 +18,25 @@ double number_in(const io::YamlNode& map, const std::string& key, double lo, dou
   return v ? v->in_range(lo, hi, lo_open, hi_open) : fallback;
 }
 
+// A first step `step` (dt, ds) at least its smallest allowed size `minimum` (dt_min, ds_min): a given minimum
+// is reported at its key; the default one at the step's key, since the step is what is too small.
+void check_not_below_minimum(const io::YamlNode& map, const char* step, double value, const char* minimum_key,
+                             double minimum) {
+  if (value >= minimum) return;
+  if (map.has(minimum_key)) map[minimum_key].fail(std::string(minimum_key) + " <= " + step);
+  map[step].fail_message(fmt::format("expected {} >= {} = {} (the default smallest step; give a smaller {} to "
+                                     "allow it), got {}",
+                                     step, minimum_key, minimum, minimum_key, value));
+}
+
 // steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
 // max_path_length, direction}.
-void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNode>& node) {
+void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNode>& node, double start) {
   if (!node) return;
   if (auto v = node->optional("ds")) a.ds_initial = v->positive();
   if (auto v = node->optional("ds_min")) a.ds_min = v->positive();
   a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
-  if (a.ds_min > a.ds_initial) (*node)["ds_min"].fail("ds_min <= ds");
+  check_not_below_minimum(*node, "ds", a.ds_initial, "ds_min", a.ds_min);
   if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
   a.desired_iterations = optional_int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
                                 "the Newton iterations a step aims at");
@@ -42,6 +53,9 @@ void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNod
                                                                            : solve::ArcLengthCorrector::linearized;
   a.t_min = node->get("t_min", a.t_min);
   a.t_max = node->get("t_max", a.t_max);
+  if (a.t_min > a.t_max) (*node)["t_max"].fail(fmt::format("t_max >= t_min = {}", a.t_min));
+  if (a.t_min > start) (*node)["t_min"].fail(fmt::format("t_min <= {} (the path starts at t = {})", start, start));
+  if (a.t_max < start) (*node)["t_max"].fail(fmt::format("t_max >= {} (the path starts at t = {})", start, start));
   if (auto v = node->optional("max_path_length")) a.max_path_length = v->positive();
   if (auto v = node->optional("direction"))
     a.initial_direction = v->as_choice({"increasing", "decreasing"}) == "increasing" ? 1 : -1;
@@ -116,7 +130,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   s.dt_initial = number_in(*node, "dt", 0.0, INFINITY, true, true, s.dt_initial);
   s.dt_max = node->has("dt_max") ? (*node)["dt_max"].positive() : std::max(s.dt_max, s.dt_initial);
   s.dt_min = number_in(*node, "dt_min", 0.0, INFINITY, true, true, s.dt_min);
-  if (s.dt_min > s.dt_initial) (*node)["dt_min"].fail("dt_min <= dt");
+  check_not_below_minimum(*node, "dt", s.dt_initial, "dt_min", s.dt_min);
   if (s.dt_max < s.dt_initial) (*node)["dt_max"].fail("dt_max >= dt");
   s.easy_iterations = optional_int_in(*node, "easy_iterations", 1, 1000, s.easy_iterations,
                              "the most Newton iterations of a step that lets dt grow");
@@ -136,7 +150,7 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   }
   if (auto a = node->optional("arc_length")) {
     if (run.method != Method::arc_length) a->fail_message("arc-length controls need 'method: arc_length'");
-    read_arc_length(run.arc_length, a);
+    read_arc_length(run.arc_length, a, s.t_start);
   }
   if (auto d = node->optional("dynamics")) {
     if (run.method != Method::dynamics) d->fail_message("time-integration controls need 'method: dynamics'");

@@ -91,8 +91,12 @@ AtomicFileWriter::~AtomicFileWriter() {
 
 void AtomicFileWriter::commit() {
   if (committed_) throw std::logic_error(path_ + ": AtomicFileWriter committed twice");
+  // The stream keeps no error code: errno is that of the write(2) that failed (a failed stream writes no more).
+  int error = stream_.fail() ? errno : 0;
   stream_.flush();
-  const int error = buffer_->close();
+  if (!error && stream_.fail()) error = errno;
+  const int close_error = buffer_->close();
+  if (!error) error = close_error;
   if (error != 0 || stream_.fail()) {
     std::remove(temporary_path_.c_str());
     throw std::runtime_error(fmt::format("{}: write failed: {}", temporary_path_,

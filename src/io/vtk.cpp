@@ -220,6 +220,10 @@ void validate(const VtuMesh& mesh) {
   }
   for (const auto& field : mesh.point_data) validate_field(field, mesh.points.size(), "point");
   for (const auto& field : mesh.cell_data) validate_field(field, mesh.types.size(), "cell");
+  for (const auto& field : mesh.field_data)
+    if (field.components < 1 || field.values.empty() || field.values.size() % field.components != 0)
+      throw std::invalid_argument(fmt::format("vtu field data '{}': {} values for {} components", field.name,
+                                              field.values.size(), field.components));
   validate_bezier(mesh);
 }
 
@@ -238,6 +242,17 @@ std::string vtu_document(const VtuMesh& mesh, VtuEncoding encoding) {
                      "header_type=\"UInt64\"{}>\n",
                      encoding == VtuEncoding::compressed ? " compressor=\"vtkZLibDataCompressor\"" : "");
   xml += "  <UnstructuredGrid>\n";
+  if (!mesh.field_data.empty()) {
+    xml += "    <FieldData>\n";
+    for (const auto& field : mesh.field_data) {
+      xml += fmt::format("      <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" NumberOfTuples=\"{}\" "
+                         "format=\"ascii\">\n       ",
+                         xml_escape(field.name), field.components, field.values.size() / field.components);
+      for (double v : field.values) xml += " " + format_double(v);
+      xml += "\n      </DataArray>\n";
+    }
+    xml += "    </FieldData>\n";
+  }
   xml += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", mesh.points.size(),
                      mesh.types.size());
   append_fields(xml, arrays, "PointData", mesh.point_data, vtk_bezier::weights);

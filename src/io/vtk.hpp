@@ -55,6 +55,9 @@ struct VtuMesh {
     std::vector<double> values;  // values.size() = (points or cells) * components, point-major
   };
   std::vector<Field> point_data, cell_data;
+  // Values of the whole data set (<FieldData>, written as ASCII), e.g. the step and its t; each field's
+  // values.size() / components tuples.
+  std::vector<Field> field_data;
 
   // Convenience: appends a cell with the given point indices and type.
   void add_cell(std::uint8_t type, std::initializer_list<int> point_ids);

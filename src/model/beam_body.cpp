@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "model/ordered_sum.hpp"
 #include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
@@ -143,12 +144,13 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
   const bool with_tangent = sink.with_tangent();
   const auto g = spline::gauss_legendre(gauss());
   const int n_elements = static_cast<int>(elements.size());
-  double energy = 0.0;
-#pragma omp parallel reduction(+ : energy)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+#pragma omp parallel
   {
+    double energy = 0.0;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
-#pragma omp for schedule(dynamic, 8)
+#pragma omp for schedule(static, 8)
     for (int e = 0; e < n_elements; ++e) {
       if (!sink.owns(e)) continue;
       const auto& el = elements[e];
@@ -165,8 +167,9 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
     }
+    sum.set(energy);
   }
-  return energy;
+  return sum.total();
 }
 
 void BeamBody::accept(const State& state) {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "model/beam_body.hpp"
+#include "model/ordered_sum.hpp"
 #include "model/shell_body.hpp"
 #include "solve/assembler.hpp"
 #include "solve/dof_map.hpp"
@@ -244,13 +245,14 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
   const bool with_tangent = sink.with_tangent();
   const int n_pairs = static_cast<int>(pairs_.size());
   const bool need_third = formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact;
-  double energy = 0;
-#pragma omp parallel reduction(+ : energy) reduction(|| : bad)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+#pragma omp parallel reduction(|| : bad)
   {
+    double energy = 0;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
     interaction::PairPoint p;
-#pragma omp for schedule(dynamic, 4)
+#pragma omp for schedule(static, 4)
     for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
       // A neighbour kept in the pattern only, or a pair another process evaluates.
       if (pair_points_[k_pair].empty() || !sink.owns(k_pair)) continue;
@@ -288,8 +290,9 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
       }
       sink.add(k_pair, r, with_tangent ? &k : nullptr);
     }
+    sum.set(energy);
   }
-  return energy;
+  return sum.total();
 }
 
 void Coupling::share_points(const ElementSink& sink, double& energy) {

@@ -5,6 +5,7 @@
 
 #include "model/beam_body.hpp"
 #include "model/coupling.hpp"
+#include "model/ordered_sum.hpp"
 #include "model/shell_body.hpp"
 
 namespace fibrane::model {
@@ -114,38 +115,43 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   const solve::DofMap& dofs = state.dofs;
   const bool with_tangent = sink.with_tangent();
   const double beta = this->beta();
-  double energy = 0;
-#pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
-  for (int k = 0; k < n_soft; ++k) {
-    const SoftPoint& sp = soft_[k];
-    const auto& qp = quad_[sp.point];
-    const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
-    const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
-    const Eigen::Matrix3Xd window_x = shell_.current(sp.window.control_points, u, dofs);
-    const Eigen::RowVectorXd basis = beam_.curve.basis(qp.xi, 0).R.row(0);
-    Eigen::VectorXd r;
-    Eigen::MatrixXd kt;
-    std::vector<int> support;
-    try {
-      double e = 0;
-      Eigen::Vector3d f;
-      const double D = interaction::add_soft_rf2_point(*law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
-                                                       qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
-      energy += e;
-      auto& out = points_[sp.point];
-      out.active = true;
-      out.soft = true;
-      out.distance = D;
-      out.energy_density = e / qp.weight;
-      out.force = -f;
-      out.position = beam_x * basis.transpose();
-      for (int& i : support) i = sp.to_union[i];
-      sink.add(soft_element, support, r, with_tangent ? &kt : nullptr);
-    } catch (const std::domain_error&) {
-      bad = true;
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+#pragma omp parallel reduction(|| : bad)
+  {
+    double energy = 0;
+#pragma omp for schedule(static, 1)
+    for (int k = 0; k < n_soft; ++k) {
+      const SoftPoint& sp = soft_[k];
+      const auto& qp = quad_[sp.point];
+      const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
+      const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
+      const Eigen::Matrix3Xd window_x = shell_.current(sp.window.control_points, u, dofs);
+      const Eigen::RowVectorXd basis = beam_.curve.basis(qp.xi, 0).R.row(0);
+      Eigen::VectorXd r;
+      Eigen::MatrixXd kt;
+      std::vector<int> support;
+      try {
+        double e = 0;
+        Eigen::Vector3d f;
+        const double D = interaction::add_soft_rf2_point(*law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
+                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
+        energy += e;
+        auto& out = points_[sp.point];
+        out.active = true;
+        out.soft = true;
+        out.distance = D;
+        out.energy_density = e / qp.weight;
+        out.force = -f;
+        out.position = beam_x * basis.transpose();
+        for (int& i : support) i = sp.to_union[i];
+        sink.add(soft_element, support, r, with_tangent ? &kt : nullptr);
+      } catch (const std::domain_error&) {
+        bad = true;
+      }
     }
+    sum.set(energy);
   }
-  return energy;
+  return sum.total();
 }
 
 }  // namespace fibrane::model

@@ -82,7 +82,7 @@ Eigen::MatrixXd Inertia::element_matrix(int e) const {
 double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) {
   if (!step_) return 0.0;
   const int n_elements = num_elements();
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(static, 16)  // static: the same sums in every run
   for (int e = 0; e < n_elements; ++e) {
     if (!sink.owns(e)) continue;
     const auto& d = dofs_[e];

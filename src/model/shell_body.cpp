@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include "model/ordered_sum.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
@@ -65,14 +66,15 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
   for (int e = 0; e < n_elements; e += n_u)  // the first element of each row
     for (double g : gv.points)
       along_v.push_back(at_gauss(surface.knots(1), elements[e].span_v, elements[e].v0, elements[e].v1, g));
-  double energy = 0.0;
-#pragma omp parallel reduction(+ : energy)
+  OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+#pragma omp parallel
   {
+    double energy = 0.0;
     spline::SurfaceBasis basis;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
     shell::ElementTangent element_tangent;
-#pragma omp for schedule(dynamic, 16)
+#pragma omp for schedule(static, 16)
     for (int e = 0; e < n_elements; ++e) {
       if (!sink.owns(e)) continue;
       const auto& el = elements[e];
@@ -99,8 +101,9 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
     }
+    sum.set(energy);
   }
-  return energy;
+  return sum.total();
 }
 
 Eigen::Vector3d ShellBody::displacement(double pu, double pv, const Eigen::VectorXd& u,

@@ -143,4 +143,14 @@ io::VtuMesh beam_bezier_vtu(const Model& m, const BeamBody& b) {
   return io::bezier_curve_vtu(b.curve, current, {disp, twist});
 }
 
+double series_timestep(const solve::StepReport& r, bool by_path_length) {
+  return by_path_length ? r.path_length : r.t;
+}
+
+std::vector<io::VtuMesh::Field> step_field_data(const solve::StepReport& r, bool by_path_length) {
+  std::vector<io::VtuMesh::Field> fields{{"step", 1, {static_cast<double>(r.step)}}, {"t", 1, {r.t}}};
+  if (by_path_length) fields.push_back({"path_length", 1, {r.path_length}});
+  return fields;
+}
+
 }  // namespace fibrane::output

@@ -1,7 +1,10 @@
 #pragma once
 // Sampled geometry and fields of the model's bodies and interactions for ParaView.
+#include <vector>
+
 #include "io/vtk.hpp"
 #include "model/model.hpp"
+#include "solve/continuation.hpp"
 
 namespace fibrane::output {
 
@@ -15,5 +18,11 @@ io::VtuMesh shell_bezier_vtu(const model::Model& m, const model::ShellBody& s);
 io::VtuMesh beam_bezier_vtu(const model::Model& m, const model::BeamBody& b);
 // The beam quadrature points of an interaction with distance, cos(alpha) and the force per length.
 io::VtuMesh coupling_vtu(const model::Coupling& c);
+
+// The .pvd timestep of a step. ParaView orders a series by timestep, so it must grow along the run: t, or
+// with `by_path_length` (arc-length runs, whose t turns back at limit points) the path length.
+double series_timestep(const solve::StepReport& r, bool by_path_length);
+// What every .vtu of a step carries as <FieldData>: `step`, `t`, and with `by_path_length` `path_length`.
+std::vector<io::VtuMesh::Field> step_field_data(const solve::StepReport& r, bool by_path_length);
 
 }  // namespace fibrane::output

@@ -199,11 +199,13 @@ std::vector<std::string> RunOutput::take_warnings() {
 void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
   if (!case_.output.vtk) return;
   std::size_t k = 0;
-  auto write = [&](const std::string& name, const io::VtuMesh& mesh) {
+  const bool by_path = case_.run.method == casefile::Method::arc_length;  // body_vtk.hpp, series_timestep
+  auto write = [&](const std::string& name, io::VtuMesh mesh) {
     const std::string rel = fmt::format("vtk/{}_{:06d}.vtu", name, r.step);
     manifest_->add(rel);
+    mesh.field_data = step_field_data(r, by_path);
     io::write_vtu((std::filesystem::path(dir_) / rel).string(), mesh);
-    series_[k++].add(r.t, rel);
+    series_[k++].add(series_timestep(r, by_path), rel);
   };
   const auto& o = case_.output;
   const std::string sampled = o.bezier ? "_sampled" : "";

@@ -267,7 +267,8 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
-  check_output_directory(c, summary.directory);
+  check_output_directory(c, summary.directory,
+                         options.output_directory.empty() ? "output.directory" : options.restart ? "--restart" : "-o");
   check_finite_model(c);
   // One run per directory, from before its first write to its exit; a distributed run's first process
   // writes and locks. A run refused before it starts leaves no lock file or directory behind.

@@ -1,5 +1,5 @@
 // Command-line options of `fibrane run` that override the case: --max-steps bounds every continuation
-// method (load stepping, arc length, dynamics) alike.
+// method (load stepping, arc length, dynamics) alike, and is at least 1.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -60,6 +60,17 @@ INSTANTIATE_TEST_SUITE_P(
                       MethodCase{"arc_length", "steps: {method: arc_length, t_end: 1.0, arc_length: {ds: 0.5}}\n"},
                       MethodCase{"dynamics", "steps: {method: dynamics, t_end: 1.0, dt: 0.01}\n"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+// --max-steps 0 is a usage error (exit 2) that states the range readably, and nothing is written.
+TEST(MaxStepsOption, ZeroIsRefusedWithItsRange) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const auto out = std::filesystem::temp_directory_path() / "fibrane-max-steps-zero";
+  const auto run = run_roof("steps: {t_end: 1.0, dt: 0.01}\n", out, 0);
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--max-steps: Value 0 not in range 1 to 100000000"), std::string::npos) << run.output;
+  EXPECT_LT(run.output.size(), 200u) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(out / "out"));
+}
 
 }  // namespace
 }  // namespace fibrane::testing
