@@ -5,6 +5,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
+#include "common/parallel_errors.hpp"
 #include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
@@ -144,13 +145,14 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
   const auto g = spline::gauss_legendre(gauss());
   const int n_elements = static_cast<int>(elements.size());
   double energy = 0.0;
+  FirstError error;
 #pragma omp parallel reduction(+ : energy)
   {
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
 #pragma omp for schedule(dynamic, 8)
-    for (int e = 0; e < n_elements; ++e) {
-      if (!sink.owns(e)) continue;
+    for (int e = 0; e < n_elements; ++e) error.run([&] {
+      if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const beam::BeamDofs q = current(el.control_points, u, dofs);
       const int n = 4 * static_cast<int>(el.control_points.size());
@@ -164,8 +166,9 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
                              with_tangent ? &k : nullptr);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    }
+    });
   }
+  error.rethrow();
   return energy;
 }
 

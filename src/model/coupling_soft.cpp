@@ -3,6 +3,7 @@
 // pattern element they share, and their evaluation.
 #include <algorithm>
 
+#include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/coupling.hpp"
 #include "model/shell_body.hpp"
@@ -115,8 +116,9 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   const bool with_tangent = sink.with_tangent();
   const double beta = this->beta();
   double energy = 0;
+  FirstError error;
 #pragma omp parallel for schedule(dynamic, 1) reduction(+ : energy) reduction(|| : bad)
-  for (int k = 0; k < n_soft; ++k) {
+  for (int k = 0; k < n_soft; ++k) error.run([&] {
     const SoftPoint& sp = soft_[k];
     const auto& qp = quad_[sp.point];
     const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
@@ -144,7 +146,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
     } catch (const std::domain_error&) {
       bad = true;
     }
-  }
+  });
+  error.rethrow();
   return energy;
 }
 

@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include "common/parallel_errors.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
@@ -66,6 +67,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     for (double g : gv.points)
       along_v.push_back(at_gauss(surface.knots(1), elements[e].span_v, elements[e].v0, elements[e].v1, g));
   double energy = 0.0;
+  FirstError error;
 #pragma omp parallel reduction(+ : energy)
   {
     spline::SurfaceBasis basis;
@@ -73,8 +75,8 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     Eigen::MatrixXd k;
     shell::ElementTangent element_tangent;
 #pragma omp for schedule(dynamic, 16)
-    for (int e = 0; e < n_elements; ++e) {
-      if (!sink.owns(e)) continue;
+    for (int e = 0; e < n_elements; ++e) error.run([&] {
+      if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const auto& cps = element_control_points[e];
       const Eigen::Matrix3Xd X = reference(cps);
@@ -98,8 +100,9 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
         element_tangent.add_to(k);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    }
+    });
   }
+  error.rethrow();
   return energy;
 }
 
