@@ -88,7 +88,8 @@ const char* file_kind(mode_t mode) {
 }
 
 [[noreturn]] void refuse_kind(const std::string& path, mode_t mode) {
-  throw InputError(fmt::format("{}: is {}, not a case file (a case file must be a regular file)", path, file_kind(mode)));
+  throw InputError(
+      fmt::format("{}: is {}, not a case file (a case file must be a regular file)", path, file_kind(mode)));
 }
 
 }  // namespace

@@ -81,7 +81,8 @@ HomogeneousCurve insert_knot(const HomogeneousCurve& curve, double u, int times)
 
 std::vector<double> expand_insertions(const std::vector<std::pair<double, int>>& insertions) {
   std::vector<double> values;
-  for (const auto& [u, times] : insertions) values.insert(values.end(), static_cast<std::size_t>(std::max(times, 0)), u);
+  for (const auto& [u, times] : insertions)
+    values.insert(values.end(), static_cast<std::size_t>(std::max(times, 0)), u);
   return values;
 }
 

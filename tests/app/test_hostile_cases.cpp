@@ -125,10 +125,12 @@ TEST(HostileGenerated, CaseFileThatIsNotARegularFileIsRefusedAtOnce) {
   fs::remove_all(dir);
   fs::create_directories(dir / "folder.yaml");
   ASSERT_EQ(mkfifo((dir / "fifo.yaml").c_str(), 0600), 0);
-  for (const auto& [name, what] : {std::pair<const char*, const char*>{"fifo.yaml", "is a FIFO (named pipe), not a case file"},
-                                   {"folder.yaml", "is a directory, not a case file"}}) {
+  using Expected = std::pair<const char*, const char*>;
+  for (const auto& [name, what] : {Expected{"fifo.yaml", "is a FIFO (named pipe), not a case file"},
+                                   Expected{"folder.yaml", "is a directory, not a case file"}}) {
     const auto start = std::chrono::steady_clock::now();
-    const auto r = run_cli_command("cd '" + dir.string() + "' && timeout 20 '" + fibrane_binary() + "' run " + name + " -q");
+    const auto r =
+        run_cli_command("cd '" + dir.string() + "' && timeout 20 '" + fibrane_binary() + "' run " + name + " -q");
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     EXPECT_EQ(r.exit_code, 2) << name << ": " << r.output;
     EXPECT_NE(r.output.find(std::string(name) + ": " + what), std::string::npos) << r.output;
@@ -154,7 +156,8 @@ TEST(HostileRuns, OverflowingDynamicsStepEndsAsAFailedRun) {
     text << in.rdbuf();
     std::string yaml = text.str();
     for (const auto& [from, to] : {std::pair{std::string("1.0e100"), dt}, std::pair{std::string("1.0e99"), dt_min}})
-      for (std::size_t at = 0; (at = yaml.find(from, at)) != std::string::npos; at += to.size()) yaml.replace(at, from.size(), to);
+      for (std::size_t at = 0; (at = yaml.find(from, at)) != std::string::npos; at += to.size())
+        yaml.replace(at, from.size(), to);
     std::ofstream(dir / "case.yaml") << yaml;
     const auto r = run_cli_command("cd '" + dir.string() + "' && bash -c \"" + limits() + " '" + fibrane_binary() +
                                    "' run case.yaml -q -o out\"");

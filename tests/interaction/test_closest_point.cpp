@@ -261,11 +261,16 @@ TEST(ClosestPoint, NonFiniteOrOverflowingPointsHaveNoProjection) {
   const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
   const std::vector<Eigen::Vector3d> points = {{nan, 0, 0}, {0, inf, 1}, {1e200, -1e200, 1e200}, {0.3, 0.1, -1e300}};
   for (const Eigen::Vector3d& p : points) {
-    for (const auto& start : {std::optional<Eigen::Vector2d>(), std::optional<Eigen::Vector2d>(Eigen::Vector2d(0.4, 0.6))}) {
+    using Start = std::optional<Eigen::Vector2d>;
+    for (const Start& start : {Start(), Start(Eigen::Vector2d(0.4, 0.6))}) {
       ShellProximity::Projection r;
       ASSERT_NO_THROW(r = prox.project(p, start)) << p.transpose();
-      if (!p.allFinite()) EXPECT_EQ(r.where, Where::failed) << p.transpose();
-      if (r.where != Where::failed) EXPECT_TRUE(std::isfinite(r.u) && std::isfinite(r.v)) << p.transpose();
+      if (!p.allFinite()) {
+        EXPECT_EQ(r.where, Where::failed) << p.transpose();
+      }
+      if (r.where != Where::failed) {
+        EXPECT_TRUE(std::isfinite(r.u) && std::isfinite(r.v)) << p.transpose();
+      }
     }
   }
   // A shell whose control points overflowed: no projection either.
