@@ -238,7 +238,9 @@ void Run::march(RunSummary& summary) {
       throw;
     } catch (const std::exception& e) {
       // A failure no step anticipated (a bug, an exhausted resource): the run ends as failed after its last
-      // finished step, and summary.json says why.
+      // finished step, and summary.json says why. A distributed run's process leaves instead (the others may
+      // wait for it in a collective operation; mpirun ends them).
+      if (m_.distribution()) throw;
       error_ = std::current_exception();
       summary.result.outcome = solve::Outcome::failed;
       summary.result.t_reached = last_t_;
