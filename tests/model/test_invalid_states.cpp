@@ -1,16 +1,23 @@
 // States that an overflowing time step produces (non-finite unknowns or time, coordinates near 1e200) are
-// invalid states that Newton fails on, never exceptions out of the evaluation; and an exception inside an
-// OpenMP parallel region is carried out of it (common/parallel_errors.hpp) instead of ending the process.
+// invalid states that Newton fails on, never exceptions out of the evaluation; an exception inside an
+// OpenMP parallel region is carried out of it (common/parallel_errors.hpp) instead of ending the process;
+// and an exception during a run's march ends it as a failed run with summary.json.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
 #include "case/case_reader.hpp"
 #include "common/parallel_errors.hpp"
+#include "run/run.hpp"
+#include "solve/linear_solver.hpp"
 
 namespace fibrane {
 namespace {
@@ -54,6 +61,48 @@ TEST(InvalidStates, OverflowingCoordinatesAreNotAnException) {
     ASSERT_NO_THROW(m.evaluate(Eigen::VectorXd::Constant(q0.size(), huge), 0.0, true)) << huge;
     EXPECT_TRUE(!m.invalid_state().empty() || !m.residual().allFinite()) << huge;
   }
+}
+
+// A linear solver that throws at its n-th solve: an error no step anticipates.
+class FailingSolver : public solve::LinearSolver {
+ public:
+  FailingSolver(std::unique_ptr<solve::LinearSolver> inner, int fail_at) : inner_(std::move(inner)), left_(fail_at) {}
+  void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
+  bool factorize(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    if (--left_ == 0) throw std::runtime_error("injected solver error");
+    return inner_->solve(b);
+  }
+  std::string name() const override { return inner_->name(); }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+
+ private:
+  std::unique_ptr<solve::LinearSolver> inner_;
+  mutable int left_;
+};
+
+// An exception during the march ends the run as failed after its last finished step, with summary.json
+// saying why (the command line then exits with 1).
+TEST(RunErrors, AnExceptionDuringTheMarchEndsTheRunAsFailedWithASummary) {
+  const auto dir = std::filesystem::temp_directory_path() / "fibrane-test-run-error";
+  std::filesystem::remove_all(dir);
+  casefile::Case c = casefile::read_case(std::string(FIBRANE_SOURCE_DIR) + "/examples/rollup-strip.yaml");
+  run::RunOptions options;
+  options.output_directory = dir.string();
+  options.quiet = true;
+  options.make_solver = [](bool symmetric) {
+    return std::make_unique<FailingSolver>(solve::make_linear_solver("auto", symmetric), 30);
+  };
+  run::RunSummary summary;
+  ASSERT_NO_THROW(summary = run::run_case(c, options));
+  EXPECT_EQ(summary.result.outcome, solve::Outcome::failed);
+  EXPECT_NE(summary.result.message.find("injected solver error"), std::string::npos) << summary.result.message;
+  EXPECT_GT(summary.result.steps, 0);
+  std::ifstream in(dir / "summary.json");
+  std::stringstream json;
+  json << in.rdbuf();
+  EXPECT_NE(json.str().find("\"outcome\": \"failed\""), std::string::npos) << json.str();
+  EXPECT_NE(json.str().find("injected solver error"), std::string::npos) << json.str();
 }
 
 TEST(FirstError, AnExceptionInAParallelRegionIsRethrownAfterIt) {
