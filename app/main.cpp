@@ -4,15 +4,17 @@
 #include "commands.hpp"
 #include "common/error.hpp"
 
+// Exit codes: 0 completed; 1 a run that did not complete (failed, out of steps) or any other error; 2 bad
+// input; 128 + signal for a run ended by SIGINT or SIGTERM. No exception leaves main.
 int main(int argc, char** argv) {
-  fibrane::app::configure_openmp_environment(argc, argv);
   CLI::App app{"fibrane: van der Waals interactions between beams and shells"};
-  app.set_version_flag("--version", std::string("fibrane ") + FIBRANE_VERSION);
-  app.require_subcommand(1);
-  fibrane::app::register_run_command(app);
-  fibrane::app::register_law_command(app);
-  fibrane::app::register_study_command(app);
   try {
+    fibrane::app::configure_openmp_environment(argc, argv);
+    app.set_version_flag("--version", std::string("fibrane ") + FIBRANE_VERSION);
+    app.require_subcommand(1);
+    fibrane::app::register_run_command(app);
+    fibrane::app::register_law_command(app);
+    fibrane::app::register_study_command(app);
     app.parse(argc, argv);
   } catch (const CLI::RuntimeError& e) {
     return e.get_exit_code();  // a run that stopped early has already said why

@@ -255,6 +255,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
   const Eigen::Vector2d lo(surface_.knots(0).front(), surface_.knots(1).front());
   const Eigen::Vector2d hi(surface_.knots(0).back(), surface_.knots(1).back());
   const Eigen::Vector2d span = hi - lo;
+  if (!theta.allFinite()) return Projection{};
   theta = theta.cwiseMax(lo).cwiseMin(hi);
   Projection out;
   SurfaceJet s = evaluate(surface_, points_, theta[0], theta[1]);
@@ -306,6 +307,7 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     }
     if (it == kMaxIterations) break;
     const Eigen::Vector2d step = projected_newton_step(newton_matrix(s, C), h, active);
+    if (!step.allFinite()) break;  // overflow: not converged
     const double f0 = 0.5 * D.squaredNorm();
     double scale = 1.0;
     Eigen::Vector2d next;
@@ -328,6 +330,9 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     theta = next;
     s = trial;
   }
+  // Overflow (a point or a shell at ~1e154 and beyond, where squared distances are infinite) gives a
+  // non-finite parameter: no projection.
+  if (!theta.allFinite() || !s.r.allFinite()) return Projection{};
   out.element = element_at(theta[0], theta[1]);
   describe_closest_point(out, p, theta, s);
   if (!converged) out.where = Projection::Where::failed;
@@ -350,6 +355,7 @@ ShellProximity::Projection ShellProximity::at(const Eigen::Vector3d& p, const Ei
 ShellProximity::Projection ShellProximity::project(const Eigen::Vector3d& p,
                                                    const std::optional<Eigen::Vector2d>& start,
                                                    double keep_margin) const {
+  if (!p.allFinite()) return Projection{};
   if (start) {
     Projection warm = newton(p, *start);
     if (warm.where == Projection::Where::failed) return project(p);

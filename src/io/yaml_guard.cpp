@@ -5,9 +5,13 @@
 #include <yaml-cpp/exceptions.h>
 #include <yaml-cpp/parser.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
+#include <cerrno>
+#include <cstring>
 #include <sstream>
 
 #include "common/error.hpp"
@@ -72,19 +76,51 @@ class GuardHandler final : public YAML::EventHandler {
 
 }  // namespace
 
+namespace {
+
+// What a non-regular file is, for the message.
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISSOCK(mode)) return "a socket";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return "a device";
+  return "not a regular file";
+}
+
+[[noreturn]] void refuse_kind(const std::string& path, mode_t mode) {
+  throw InputError(
+      fmt::format("{}: is {}, not a case file (a case file must be a regular file)", path, file_kind(mode)));
+}
+
+}  // namespace
+
+// A FIFO or a device would block open() or read() (or never end): the file's type is checked before it is
+// opened, and again on the open descriptor (opened non-blocking, so that a FIFO put there in between does
+// not block either).
 std::string read_text_limited(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError(fmt::format("{}: is a directory, not a case file", path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the file for reading", path));
+  struct stat info {};
+  if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode)) refuse_kind(path, info.st_mode);
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw InputError(fmt::format("{}: cannot open the file for reading", path));
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  if (::fstat(fd, &info) != 0) throw InputError(fmt::format("{}: cannot read the file", path));
+  if (!S_ISREG(info.st_mode)) refuse_kind(path, info.st_mode);
   std::string text(kMaxYamlBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
+  std::size_t size = 0;
+  while (size < text.size()) {
+    const ssize_t got = ::read(fd, text.data() + size, text.size() - size);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw InputError(fmt::format("{}: cannot read the file: {}", path, std::strerror(errno)));
+    if (got == 0) break;
+    size += static_cast<std::size_t>(got);
+  }
+  text.resize(size);
   if (text.size() > kMaxYamlBytes)
     throw InputError(fmt::format("{}: the file is larger than {} MiB: a case file this large is not supported",
                                  path, kMaxYamlBytes >> 20));
-  if (in.bad()) throw InputError(fmt::format("{}: cannot read the file", path));
   return text;
 }
 

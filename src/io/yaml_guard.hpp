@@ -16,8 +16,8 @@ inline constexpr std::size_t kMaxYamlBytes = 16u << 20;  // 16 MiB
 inline constexpr std::size_t kMaxYamlNodes = 1'000'000;
 inline constexpr int kMaxYamlDepth = 64;
 
-// Reads the file at `path`, refusing a missing or unreadable file, a directory and a file larger than
-// kMaxYamlBytes.
+// Reads the file at `path`, refusing a missing or unreadable file, anything but a regular file (a
+// directory, a FIFO, a device: refused without blocking) and a file larger than kMaxYamlBytes.
 std::string read_text_limited(const std::string& path);
 
 // Checks encoding and YAML structure of `text` as described above; `source_name` names it in messages.

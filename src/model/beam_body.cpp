@@ -6,6 +6,7 @@
 #include "common/error.hpp"
 #include "common/format.hpp"
 #include "model/ordered_sum.hpp"
+#include "common/parallel_errors.hpp"
 #include "model/saved_state.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/quadrature.hpp"
@@ -145,14 +146,15 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
   const auto g = spline::gauss_legendre(gauss());
   const int n_elements = static_cast<int>(elements.size());
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+  FirstError error;
 #pragma omp parallel
   {
     double energy = 0.0;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
 #pragma omp for schedule(static, 8)
-    for (int e = 0; e < n_elements; ++e) {
-      if (!sink.owns(e)) continue;
+    for (int e = 0; e < n_elements; ++e) error.run([&] {
+      if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const beam::BeamDofs q = current(el.control_points, u, dofs);
       const int n = 4 * static_cast<int>(el.control_points.size());
@@ -166,9 +168,10 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
                              with_tangent ? &k : nullptr);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    }
+    });
     sum.set(energy);
   }
+  error.rethrow();
   return sum.total();
 }
 

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/ordered_sum.hpp"
 #include "model/shell_body.hpp"
@@ -96,8 +97,9 @@ bool Coupling::update(const State& state) {
   proximity_.update(current_points(shell_, u, dofs));
   update_soft_windows();
   const int n = static_cast<int>(quad_.size());
+  FirstError error;
 #pragma omp parallel for schedule(dynamic, 16)
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < n; ++i) error.run([&] {
     const Eigen::Vector3d r = beam_point(i, u, dofs);
     // Warm start from the last evaluation (the branch the point is on), kept unless a point 1e-3 closer
     // exists. After a failed attempt reject() has reset it to the last converged step.
@@ -111,7 +113,8 @@ bool Coupling::update(const State& state) {
     beam_points_[i] = r;
     last_[i] = inside ? std::optional<Eigen::Vector2d>(Eigen::Vector2d(projection_[i].u, projection_[i].v))
                       : std::nullopt;
-  }
+  });
+  error.rethrow();
   calibrate_soft_points(u, dofs);
   if (soft_changed_) build_soft_element();
   return collect_pairs();
@@ -246,6 +249,7 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
   const int n_pairs = static_cast<int>(pairs_.size());
   const bool need_third = formulation_ == interaction::Formulation::FF && ff_tangent_ == interaction::FfTangent::exact;
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+  FirstError error;
 #pragma omp parallel reduction(|| : bad)
   {
     double energy = 0;
@@ -253,9 +257,9 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
     Eigen::MatrixXd k;
     interaction::PairPoint p;
 #pragma omp for schedule(static, 4)
-    for (int k_pair = 0; k_pair < n_pairs; ++k_pair) {
+    for (int k_pair = 0; k_pair < n_pairs; ++k_pair) error.run([&] {
       // A neighbour kept in the pattern only, or a pair another process evaluates.
-      if (pair_points_[k_pair].empty() || !sink.owns(k_pair)) continue;
+      if (pair_points_[k_pair].empty() || !sink.owns(k_pair)) return;
       const auto [eb, es] = pairs_[k_pair];
       const auto& bel = beam_.elements[eb];
       const auto& sel = shell_.elements[es];
@@ -289,9 +293,10 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
         }
       }
       sink.add(k_pair, r, with_tangent ? &k : nullptr);
-    }
+    });
     sum.set(energy);
   }
+  error.rethrow();
   return sum.total();
 }
 

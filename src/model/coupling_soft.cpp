@@ -3,6 +3,7 @@
 // pattern element they share, and their evaluation.
 #include <algorithm>
 
+#include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/coupling.hpp"
 #include "model/ordered_sum.hpp"
@@ -116,11 +117,12 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   const bool with_tangent = sink.with_tangent();
   const double beta = this->beta();
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+  FirstError error;
 #pragma omp parallel reduction(|| : bad)
   {
     double energy = 0;
 #pragma omp for schedule(static, 1)
-    for (int k = 0; k < n_soft; ++k) {
+    for (int k = 0; k < n_soft; ++k) error.run([&] {
       const SoftPoint& sp = soft_[k];
       const auto& qp = quad_[sp.point];
       const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
@@ -148,9 +150,10 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
       } catch (const std::domain_error&) {
         bad = true;
       }
-    }
+    });
     sum.set(energy);
   }
+  error.rethrow();
   return sum.total();
 }
 

@@ -1,5 +1,6 @@
 #include "model/inertia.hpp"
 
+#include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/shell_body.hpp"
 #include "solve/dof_map.hpp"
@@ -82,9 +83,10 @@ Eigen::MatrixXd Inertia::element_matrix(int e) const {
 double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) {
   if (!step_) return 0.0;
   const int n_elements = num_elements();
+  FirstError error;
 #pragma omp parallel for schedule(static, 16)  // static: the same sums in every run
-  for (int e = 0; e < n_elements; ++e) {
-    if (!sink.owns(e)) continue;
+  for (int e = 0; e < n_elements; ++e) error.run([&] {
+    if (!sink.owns(e)) return;
     const auto& d = dofs_[e];
     Eigen::VectorXd w(static_cast<Eigen::Index>(d.size()));
     for (std::size_t i = 0; i < d.size(); ++i) w[static_cast<Eigen::Index>(i)] = step_->inertia(d[i], s.u[d[i]]);
@@ -96,7 +98,8 @@ double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) 
     } else {
       sink.add(e, r, nullptr);
     }
-  }
+  });
+  error.rethrow();
   return 0.0;  // the kinetic energy needs the velocity: the time integrator keeps it
 }
 

@@ -193,6 +193,10 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   if (with_tangent) ++times_.tangents;
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
+  if (!u_.allFinite() || !std::isfinite(t)) {
+    evaluate_non_finite(with_tangent);
+    return;
+  }
   bool changed = false;
   for (auto& e : entries_)
     if (e.contribution->variable()) changed |= e.contribution->update(state());
@@ -226,6 +230,17 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   load_scale_ = std::sqrt(std::max(nodal_loads.squared_norm(s), reaction_sq));
   if (with_tangent) roundoff_floor_ = estimate_roundoff_floor();
   lap(times_.other);
+}
+
+void Model::evaluate_non_finite(bool with_tangent) {
+  for (double& e : energies_) e = 0.0;
+  status_ = Status::invalid("an unknown or the time is not finite (overflow)");
+  external_.setZero(dofs.size());
+  assembler_.begin(with_tangent, nullptr);
+  assembler_.end(distribution_);
+  if (distribution_) agree(with_tangent);
+  load_scale_ = 0.0;
+  roundoff_floor_ = 0.0;
 }
 
 double Model::estimate_roundoff_floor() const {

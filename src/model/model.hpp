@@ -137,6 +137,9 @@ class Model : public solve::TransientSystem {
   // max(1, |u_j|)): the residual that rounding the configuration alone causes.
   // Distributed: the sum over the processes of their summands' column sums (the same value everywhere).
   double estimate_roundoff_floor() const;
+  // evaluate() at a state with a non-finite unknown or time (an overflowing step): no contribution is
+  // evaluated (their kernels would throw or spread NaN), the state is invalid, residual and tangent are zero.
+  void evaluate_non_finite(bool with_tangent);
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
   std::vector<std::unique_ptr<Contribution>> extra_;

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include "model/ordered_sum.hpp"
+#include "common/parallel_errors.hpp"
 #include "solve/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
@@ -67,6 +68,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     for (double g : gv.points)
       along_v.push_back(at_gauss(surface.knots(1), elements[e].span_v, elements[e].v0, elements[e].v1, g));
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
+  FirstError error;
 #pragma omp parallel
   {
     double energy = 0.0;
@@ -75,8 +77,8 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     Eigen::MatrixXd k;
     shell::ElementTangent element_tangent;
 #pragma omp for schedule(static, 16)
-    for (int e = 0; e < n_elements; ++e) {
-      if (!sink.owns(e)) continue;
+    for (int e = 0; e < n_elements; ++e) error.run([&] {
+      if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const auto& cps = element_control_points[e];
       const Eigen::Matrix3Xd X = reference(cps);
@@ -100,9 +102,10 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
         element_tangent.add_to(k);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    }
+    });
     sum.set(energy);
   }
+  error.rethrow();
   return sum.total();
 }
 

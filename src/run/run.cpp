@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -113,9 +114,15 @@ class Run {
 
   // Marches to the end; `summary` gets the result.
   void march(RunSummary& summary);
-  // summary.json, with `extra` members.
+  // summary.json, with `extra` members. If the run ended on an error and the summary cannot be written
+  // either, the run's error is rethrown (it says what went wrong first).
   void write_summary(const RunSummary& summary, const io::JsonValue& extra) {
-    if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
+    try {
+      if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
+    } catch (...) {
+      if (error_) std::rethrow_exception(error_);
+      throw;
+    }
   }
   const std::vector<LimitPoint>& limit_points() const { return limits_.found(); }
   // The checkpoints written by this run: count, wall time spent writing them, size of the last one.
@@ -151,6 +158,7 @@ class Run {
   bool stopped_ = false, interrupted_ = false;  // by the stop rule, by a signal
   bool prepared_ = true;  // the method found its starting state (ContinuationMethod::prepare)
   std::string prepare_failure_;
+  std::exception_ptr error_;  // the exception that ended march(), if one did
   int last_checkpoint_ = -1, last_step_ = 0, checkpoints_ = 0;
   double checkpoint_seconds_ = 0;
   std::size_t checkpoint_bytes_ = 0;
@@ -222,10 +230,24 @@ void Run::march(RunSummary& summary) {
     summary.result.t_reached = c_.run.steps.t_start;
     summary.result.message = prepare_failure_;
   } else {
-    summary.result = method_->run(m_, q_, *solver_, [&](const solve::StepReport& r, const Eigen::VectorXd& q) {
-      q_ = q;
-      return on_step(r);
-    });
+    try {
+      summary.result = method_->run(m_, q_, *solver_, [&](const solve::StepReport& r, const Eigen::VectorXd& q) {
+        q_ = q;
+        return on_step(r);
+      });
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {
+      // A failure no step anticipated (a bug, an exhausted resource): the run ends as failed after its last
+      // finished step, and summary.json says why. A distributed run's process leaves instead (the others may
+      // wait for it in a collective operation; mpirun ends them).
+      if (m_.distribution()) throw;
+      error_ = std::current_exception();
+      summary.result.outcome = solve::Outcome::failed;
+      summary.result.t_reached = last_t_;
+      summary.result.steps = last_step_;
+      summary.result.message = "error after step " + std::to_string(last_step_) + ": " + e.what();
+    }
   }
   m_.set_reactions(nullptr);
   summary.interrupted_by = interrupted_ ? InterruptHandlers::received() : 0;

@@ -10,6 +10,8 @@
 
 #include <omp.h>
 
+#include "common/parallel_errors.hpp"
+
 namespace fibrane::solve {
 
 SparseAssembler::ElementTable SparseAssembler::make_table(const ConstraintSet& c,
@@ -56,12 +58,14 @@ SparseAssembler::Pattern SparseAssembler::merge(int n, const Pattern& base, cons
   // Rows each column gains over the base, sorted: one marker array per thread, so the work is the sum of
   // the elements' block sizes, not a sort of them.
   std::vector<std::vector<int>> added(static_cast<size_t>(n));
+  FirstError error;  // std::bad_alloc: every thread still meets the loop's barrier
 #pragma omp parallel
   {
-    std::vector<int> mark(static_cast<size_t>(n), -1);
+    std::vector<int> mark;
+    error.run([&] { mark.assign(static_cast<size_t>(n), -1); });
 #pragma omp for schedule(dynamic, 256)
-    for (int col = 0; col < n; ++col) {
-      if (column_begin[col] == column_begin[col + 1]) continue;
+    for (int col = 0; col < n; ++col) error.run([&] {
+      if (error.failed() || column_begin[col] == column_begin[col + 1]) return;
       for (int k = base.outer[col]; k < base.outer[col + 1]; ++k) mark[base.inner[k]] = col;
       auto& rows = added[col];
       for (int j = column_begin[col]; j < column_begin[col + 1]; ++j) {
@@ -73,8 +77,9 @@ SparseAssembler::Pattern SparseAssembler::merge(int n, const Pattern& base, cons
           }
       }
       std::sort(rows.begin(), rows.end());
-    }
+    });
   }
+  error.rethrow();
   Pattern p;
   p.outer.assign(static_cast<size_t>(n) + 1, 0);
   for (int col = 0; col < n; ++col)

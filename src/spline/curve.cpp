@@ -71,6 +71,13 @@ void NurbsCurve::insert_knot(double u, int times) {
   from_homogeneous(refined.points, points_, weights_);
 }
 
+void NurbsCurve::insert_knots(const std::vector<double>& values) {
+  if (values.empty()) return;
+  HomogeneousCurve refined = spline::insert_knots({knots_, to_homogeneous(points_, weights_)}, values);
+  knots_ = std::move(refined.knots);
+  from_homogeneous(refined.points, points_, weights_);
+}
+
 void NurbsCurve::elevate_degree(int by) {
   HomogeneousCurve elevated = spline::elevate_degree({knots_, to_homogeneous(points_, weights_)}, by);
   knots_ = std::move(elevated.knots);
@@ -80,13 +87,13 @@ void NurbsCurve::elevate_degree(int by) {
 void NurbsCurve::refine(int degree, int continuity, int n_elements) {
   check_refine_request(this->degree(), degree, continuity, n_elements);
   elevate_degree(degree - this->degree());
-  for (const auto& [u, times] : uniform_insertions(knots_, continuity, n_elements)) insert_knot(u, times);
+  insert_knots(expand_insertions(uniform_insertions(knots_, continuity, n_elements)));
 }
 
 void NurbsCurve::refine(int degree, int continuity, const std::vector<double>& grid) {
   check_refine_request(this->degree(), degree, continuity, static_cast<int>(grid.size()) + 1);
   elevate_degree(degree - this->degree());
-  for (const auto& [u, times] : grid_insertions(knots_, continuity, grid)) insert_knot(u, times);
+  insert_knots(expand_insertions(grid_insertions(knots_, continuity, grid)));
 }
 
 }  // namespace fibrane::spline

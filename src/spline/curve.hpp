@@ -33,6 +33,8 @@ class NurbsCurve {
 
   // Exact refinements (the geometry and parameterisation do not change).
   void insert_knot(double u, int times = 1);
+  // All `values` in one pass (spline::insert_knots); refine() inserts its knots this way.
+  void insert_knots(const std::vector<double>& values);
   void elevate_degree(int by = 1);
   // Uniform h-refinement: elevate to `degree` (>= current), then insert knots at the uniform parameter
   // grid a + (b-a) k / n_elements, k = 1..n-1, each to multiplicity degree - continuity (counting the

@@ -110,9 +110,14 @@ std::vector<double> KnotVector::unique_knots() const {
 }
 
 int KnotVector::multiplicity(double u) const {
+  // The knots within tol of u are contiguous (the knots increase): a binary search and a walk both ways.
   const double tol = tolerance();
-  return static_cast<int>(
-      std::count_if(knots_.begin(), knots_.end(), [&](double k) { return std::abs(k - u) <= tol; }));
+  auto near = [&](double k) { return std::abs(k - u) <= tol; };
+  auto first = std::lower_bound(knots_.begin(), knots_.end(), u - tol);
+  while (first != knots_.begin() && near(*(first - 1))) --first;
+  auto last = first;
+  while (last != knots_.end() && near(*last)) ++last;
+  return static_cast<int>(last - first);
 }
 
 }  // namespace fibrane::spline

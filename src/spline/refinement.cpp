@@ -79,6 +79,90 @@ HomogeneousCurve insert_knot(const HomogeneousCurve& curve, double u, int times)
   return result;
 }
 
+std::vector<double> expand_insertions(const std::vector<std::pair<double, int>>& insertions) {
+  std::vector<double> values;
+  for (const auto& [u, times] : insertions)
+    values.insert(values.end(), static_cast<std::size_t>(std::max(times, 0)), u);
+  return values;
+}
+
+namespace {
+
+// The values snapped onto the existing knots within the knot tolerance and sorted; throws
+// std::invalid_argument for a value not strictly inside the domain or a multiplicity above the degree.
+std::vector<double> checked_new_knots(const KnotVector& kv, std::vector<double> values) {
+  const double tol = kv.tolerance();
+  const std::vector<double>& t = kv.knots();
+  for (double& u : values) {
+    if (!(u > kv.front() + tol && u < kv.back() - tol)) {
+      std::ostringstream msg;
+      msg << "insert_knots: " << u << " is not strictly inside (" << kv.front() << ", " << kv.back() << ")";
+      throw std::invalid_argument(msg.str());
+    }
+    const auto at = std::lower_bound(t.begin(), t.end(), u - tol);
+    if (at != t.end() && std::abs(*at - u) <= tol) u = *at;  // keep equal knots bit-identical
+  }
+  std::sort(values.begin(), values.end());
+  for (std::size_t i = 0; i < values.size();) {
+    std::size_t j = i;
+    while (j < values.size() && values[j] == values[i]) ++j;
+    const int multiplicity = kv.multiplicity(values[i]) + static_cast<int>(j - i);
+    if (multiplicity > kv.degree()) {
+      std::ostringstream msg;
+      msg << "insert_knots: inserting " << values[i] << " " << j - i << " times gives multiplicity " << multiplicity
+          << " > degree " << kv.degree();
+      throw std::invalid_argument(msg.str());
+    }
+    i = j;
+  }
+  return values;
+}
+
+}  // namespace
+
+// Piegl & Tiller, The NURBS Book, algorithm A5.4 (RefineKnotVectCurve), in homogeneous coordinates: the
+// points outside the spans [a, b] that receive new knots are copied; from the right end, each new knot x_j
+// (largest first) shifts the old knots above it and forms p new points by the Boehm alphas on the knot
+// vector built so far. Indices as in the book: P_0..P_n, U_0..U_m, X_0..X_r.
+HomogeneousCurve insert_knots(const HomogeneousCurve& curve, const std::vector<double>& values) {
+  const KnotVector& kv = curve.knots;
+  if (values.empty()) return curve;
+  const std::vector<double> x = checked_new_knots(kv, values);
+  const int p = kv.degree();
+  const std::vector<double>& u = kv.knots();
+  const int n = kv.num_basis() - 1, m = n + p + 1, r = static_cast<int>(x.size()) - 1;
+  const int a = kv.find_span(x.front()), b = kv.find_span(x.back()) + 1;
+  HomogeneousPoints q(static_cast<std::size_t>(n + r + 2));
+  std::vector<double> ubar(static_cast<std::size_t>(m + r + 2));
+  for (int j = 0; j <= a - p; ++j) q[j] = curve.points[j];
+  for (int j = b - 1; j <= n; ++j) q[j + r + 1] = curve.points[j];
+  for (int j = 0; j <= a; ++j) ubar[j] = u[j];
+  for (int j = b + p; j <= m; ++j) ubar[j + r + 1] = u[j];
+  int i = b + p - 1, k = b + p + r;
+  for (int j = r; j >= 0; --j) {
+    while (x[j] <= u[i] && i > a) {
+      q[k - p - 1] = curve.points[i - p - 1];
+      ubar[k] = u[i];
+      --k;
+      --i;
+    }
+    q[k - p - 1] = q[k - p];
+    for (int l = 1; l <= p; ++l) {
+      const int ind = k - p + l;
+      const double alpha = ubar[k + l] - x[j];
+      if (alpha == 0.0) {
+        q[ind - 1] = q[ind];
+      } else {
+        const double a_l = alpha / (ubar[k + l] - u[i - p + l]);
+        q[ind - 1] = a_l * q[ind - 1] + (1.0 - a_l) * q[ind];
+      }
+    }
+    ubar[k] = x[j];
+    --k;
+  }
+  return {KnotVector(p, std::move(ubar)), std::move(q)};
+}
+
 HomogeneousCurve elevate_degree(const HomogeneousCurve& curve, int by) {
   if (by < 0) throw std::invalid_argument("elevate_degree: `by` must be >= 0");
   if (by == 0) return curve;

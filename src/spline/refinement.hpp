@@ -29,6 +29,17 @@ void from_homogeneous(const HomogeneousPoints& hom, std::vector<Eigen::Vector3d>
 // multiplicity would exceed the degree.
 HomogeneousCurve insert_knot(const HomogeneousCurve& curve, double u, int times = 1);
 
+// Inserts all `values` at once (Piegl & Tiller's A5.4, RefineKnotVectCurve): O(n + r p) for r values on
+// n control points, where inserting them one by one costs O(r n). The values may come in any order and
+// repeat (a value twice is inserted twice); each must lie strictly inside the domain, and one within the
+// knot tolerance of an existing knot is snapped onto it. Equals repeated insert_knot to round-off. Throws
+// std::invalid_argument for a value outside the domain or a resulting multiplicity above the degree.
+HomogeneousCurve insert_knots(const HomogeneousCurve& curve, const std::vector<double>& values);
+
+// The insertions (value, times) of uniform_insertions or grid_insertions as the list of values insert_knots
+// takes: each value repeated `times`.
+std::vector<double> expand_insertions(const std::vector<std::pair<double, int>>& insertions);
+
 // Raises the degree by `by` (>= 0). Every distinct knot gains `by` in multiplicity, so the continuity
 // at each knot is preserved. Method: the elevated spline space contains the curve, so its control
 // points are the unique interpolant of the curve at the Greville abscissae of the new knot vector

@@ -134,6 +134,11 @@ void NurbsSurface::insert_knot(int dir, double t, int times) {
   refine_rows(dir, [&](const HomogeneousCurve& row) { return spline::insert_knot(row, t, times); });
 }
 
+void NurbsSurface::insert_knots(int dir, const std::vector<double>& values) {
+  if (values.empty()) return;
+  refine_rows(dir, [&](const HomogeneousCurve& row) { return spline::insert_knots(row, values); });
+}
+
 void NurbsSurface::elevate_degree(int dir, int by) {
   refine_rows(dir, [&](const HomogeneousCurve& row) { return spline::elevate_degree(row, by); });
 }
@@ -141,14 +146,13 @@ void NurbsSurface::elevate_degree(int dir, int by) {
 void NurbsSurface::refine(int dir, int degree, int continuity, int n_elements) {
   check_refine_request(this->degree(dir), degree, continuity, n_elements);
   elevate_degree(dir, degree - this->degree(dir));
-  for (const auto& [t, times] : uniform_insertions(knots(dir), continuity, n_elements))
-    insert_knot(dir, t, times);
+  insert_knots(dir, expand_insertions(uniform_insertions(knots(dir), continuity, n_elements)));
 }
 
 void NurbsSurface::refine(int dir, int degree, int continuity, const std::vector<double>& grid) {
   check_refine_request(this->degree(dir), degree, continuity, static_cast<int>(grid.size()) + 1);
   elevate_degree(dir, degree - this->degree(dir));
-  for (const auto& [t, times] : grid_insertions(knots(dir), continuity, grid)) insert_knot(dir, t, times);
+  insert_knots(dir, expand_insertions(grid_insertions(knots(dir), continuity, grid)));
 }
 
 std::vector<int> NurbsSurface::edge_indices(const std::string& edge, int row) const {

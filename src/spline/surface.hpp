@@ -53,6 +53,7 @@ class NurbsSurface {
 
   // Exact refinements, per direction (dir 0 = u, 1 = v); see NurbsCurve for the semantics.
   void insert_knot(int dir, double t, int times = 1);
+  void insert_knots(int dir, const std::vector<double>& values);
   void elevate_degree(int dir, int by = 1);
   void refine(int dir, int degree, int continuity, int n_elements);
   void refine(int dir, int degree, int continuity, const std::vector<double>& grid);

@@ -2,14 +2,21 @@
 // first line says how and which message it must get ("# ... -> expect: <text>"). Every one must end with
 // exit code 2 and a message naming the file and containing the expected text, within 20 s and 4 GiB of
 // address space (bash's ulimit -v and coreutils' timeout around the real binary), and leave nothing behind:
-// each runs in an empty working directory that must hold only the case file afterwards.
+// each runs in an empty working directory that must hold only the case file afterwards. Generated inputs
+// (too large to keep, or not regular files) follow; tests/app/hostile_runs holds legal cases that must end as
+// failed runs (exit 1, summary.json) instead of crashing.
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_util.hpp"
@@ -107,6 +114,59 @@ TEST(HostileGenerated, LargeFilesAreRefusedQuickly) {
         << r.output;
     fs::remove(dir / name);
     EXPECT_TRUE(fs::is_empty(dir)) << "nothing may be written";
+  }
+}
+
+// A FIFO (or a directory) as the case file is refused at once with exit 2: open() on a FIFO without a
+// writer would block, so the file's type is checked first (nothing ever writes to this FIFO).
+TEST(HostileGenerated, CaseFileThatIsNotARegularFileIsRefusedAtOnce) {
+  if (fibrane_binary().empty()) GTEST_SKIP();
+  const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / "not-regular";
+  fs::remove_all(dir);
+  fs::create_directories(dir / "folder.yaml");
+  ASSERT_EQ(mkfifo((dir / "fifo.yaml").c_str(), 0600), 0);
+  using Expected = std::pair<const char*, const char*>;
+  for (const auto& [name, what] : {Expected{"fifo.yaml", "is a FIFO (named pipe), not a case file"},
+                                   Expected{"folder.yaml", "is a directory, not a case file"}}) {
+    const auto start = std::chrono::steady_clock::now();
+    const auto r =
+        run_cli_command("cd '" + dir.string() + "' && timeout 20 '" + fibrane_binary() + "' run " + name + " -q");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.output;
+    EXPECT_NE(r.output.find(std::string(name) + ": " + what), std::string::npos) << r.output;
+    EXPECT_LT(seconds, 10.0) << name;
+  }
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(dir)) entries.push_back(e.path().filename().string());
+  EXPECT_EQ(entries.size(), 2u) << "nothing may be written";
+}
+
+// A legal dynamics case whose first time step overflows (dt = t_end = 1e100, 1e90, 1e70; the beam falls
+// onto the membrane) does not crash: the step's states are invalid (non-finite or unprojectable), Newton fails
+// and the step is cut back until the run ends as a failed run (exit 1) with its summary.json.
+TEST(HostileRuns, OverflowingDynamicsStepEndsAsAFailedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP();
+  for (const auto& [dt, dt_min] : {std::pair<std::string, std::string>{"1.0e100", "1.0e99"}, {"1.0e90", "1.0e89"},
+                                   {"1.0e70", "1.0e69"}}) {
+    const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / ("huge-dt-" + dt);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ifstream in(corpus_dir() / ".." / "hostile_runs" / "dynamics_huge_dt.yaml");
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string yaml = text.str();
+    for (const auto& [from, to] : {std::pair{std::string("1.0e100"), dt}, std::pair{std::string("1.0e99"), dt_min}})
+      for (std::size_t at = 0; (at = yaml.find(from, at)) != std::string::npos; at += to.size())
+        yaml.replace(at, from.size(), to);
+    std::ofstream(dir / "case.yaml") << yaml;
+    const auto r = run_cli_command("cd '" + dir.string() + "' && bash -c \"" + limits() + " '" + fibrane_binary() +
+                                   "' run case.yaml -q -o out\"");
+    EXPECT_EQ(r.exit_code, 1) << dt << ": " << r.output;
+    EXPECT_NE(r.output.find("fibrane: stopped at t = 0"), std::string::npos) << r.output;
+    std::ifstream summary(dir / "out" / "summary.json");
+    std::stringstream json;
+    json << summary.rdbuf();
+    EXPECT_NE(json.str().find("\"outcome\": \"failed\""), std::string::npos) << json.str();
   }
 }
 

@@ -4,7 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
+#include <optional>
 #include <random>
+#include <vector>
 
 #include "interaction/closest_point.hpp"
 #include "test_geometry.hpp"
@@ -247,6 +250,36 @@ TEST(ClosestPoint, WarmStartNeedsFewerIterations) {
   }
   EXPECT_LT(warm, cold * 3 / 4) << "warm " << warm << " cold " << cold;
   std::printf("    Newton iterations over 40 points: cold %d, warm %d\n", cold, warm);
+}
+
+// A point that is not finite, or so far away that squared distances overflow (an overflowing time step puts
+// beam points there), has no projection: the result is `failed` (the coupling then reports the point as
+// lost, or the model the state as invalid), never an exception from the parameter search.
+TEST(ClosestPoint, NonFiniteOrOverflowingPointsHaveNoProjection) {
+  const spline::NurbsSurface s = test::cylinder();
+  ShellProximity prox(s);
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::vector<Eigen::Vector3d> points = {{nan, 0, 0}, {0, inf, 1}, {1e200, -1e200, 1e200}, {0.3, 0.1, -1e300}};
+  for (const Eigen::Vector3d& p : points) {
+    using Start = std::optional<Eigen::Vector2d>;
+    for (const Start& start : {Start(), Start(Eigen::Vector2d(0.4, 0.6))}) {
+      ShellProximity::Projection r;
+      ASSERT_NO_THROW(r = prox.project(p, start)) << p.transpose();
+      if (!p.allFinite()) {
+        EXPECT_EQ(r.where, Where::failed) << p.transpose();
+      }
+      if (r.where != Where::failed) {
+        EXPECT_TRUE(std::isfinite(r.u) && std::isfinite(r.v)) << p.transpose();
+      }
+    }
+  }
+  // A shell whose control points overflowed: no projection either.
+  std::vector<Eigen::Vector3d> points_nan = s.control_points();
+  for (Eigen::Vector3d& x : points_nan) x.x() = nan;
+  prox.update(points_nan);
+  ShellProximity::Projection r;
+  ASSERT_NO_THROW(r = prox.project(Eigen::Vector3d(0.1, 0.2, 0.3), Eigen::Vector2d(0.4, 0.6)));
+  EXPECT_EQ(r.where, Where::failed);
 }
 
 }  // namespace
