@@ -59,6 +59,12 @@ class TimedSolver : public fibrane::solve::LinearSolver {
     solve_ += seconds_since(t0);
     return x;
   }
+  Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double relative_accuracy) const override {
+    const auto t0 = clock_type::now();
+    Eigen::VectorXd x = inner_->solve_to(b, relative_accuracy);
+    solve_ += seconds_since(t0);
+    return x;
+  }
   bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override {
     const auto t0 = clock_type::now();
     const bool ok = inner_->factorize_exactly(a);

@@ -28,6 +28,16 @@
 
 namespace fibrane::run {
 
+namespace {
+
+// The case's linear solver, logging its Krylov solves with --newton-log.
+std::unique_ptr<solve::LinearSolver> make_solver(solve::LinearSolverSettings settings, bool verbose, bool symmetric) {
+  settings.verbose = verbose;
+  return solve::make_linear_solver(settings, symmetric);
+}
+
+}  // namespace
+
 std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& s, bool verbose) {
   solve::NewtonOptions newton = s.newton;
   newton.verbose = verbose;
@@ -83,7 +93,7 @@ class Run {
       const std::optional<RunCheckpoint>& restart)
       : c_(c), m_(*c.model), options_(options), method_(make_method(c.run, options.newton_log)),
         solver_(options.make_solver ? options.make_solver(m_.symmetric())
-                                    : solve::make_linear_solver(c.run.linear_solver, m_.symmetric())),
+                                    : make_solver(c.run.linear_solver, options.newton_log, m_.symmetric())),
         writes_(!m_.distribution() || m_.distribution()->rank() == 0),
         q_(m_.initial_unknowns()), stop_rule_(c.run, m_),
         limits_(model::observables(m_)),

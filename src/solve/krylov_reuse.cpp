@@ -1,5 +1,7 @@
 #include "solve/krylov_reuse.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <limits>
 
 #include "solve/krylov.hpp"
@@ -43,23 +45,25 @@ bool KrylovReuseSolver::factorize_exactly(const Eigen::SparseMatrix<double>& a) 
   return refactorize();
 }
 
-Eigen::VectorXd KrylovReuseSolver::solve(const Eigen::VectorXd& b) const {
+Eigen::VectorXd KrylovReuseSolver::solve_to(const Eigen::VectorXd& b, double relative_accuracy) const {
   ++stats_.solves;
   const auto failed = [&] { return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN()); };
   if (!factor_valid_ || !matrix_) return failed();
   if (fresh_ && direct_->exact()) return direct_->solve(b);
   const VectorOperator apply = [this](const Eigen::VectorXd& x, Eigen::VectorXd& y) { parallel_multiply(*matrix_, x, y); };
   const VectorOperator precondition = [this](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = direct_->solve(x); };
+  const double tolerance = std::max(options_.tolerance, relative_accuracy);
   for (int attempt = 0; attempt < 2; ++attempt) {
     const Eigen::VectorXd x0 = direct_->solve(b);
     if (!x0.allFinite()) return failed();
     const int limit = 3 * options_.max_iterations;
     const bool cg = symmetric_ && direct_->negative_eigenvalues() == 0;
-    KrylovResult k = cg ? preconditioned_cg(apply, precondition, b, x0, options_.tolerance, limit)
-                        : KrylovResult{};
-    if (!cg || k.breakdown)
-      k = preconditioned_gmres(apply, precondition, b, x0, options_.tolerance, limit, options_.restart);
+    KrylovResult k = cg ? preconditioned_cg(apply, precondition, b, x0, tolerance, limit) : KrylovResult{};
+    if (!cg || k.breakdown) k = preconditioned_gmres(apply, precondition, b, x0, tolerance, limit, options_.restart);
     ++stats_.krylov_solves;
+    if (options_.verbose)
+      std::fprintf(stderr, "  %s: %d iterations to %.2e (asked %.1e) with the factorisation of %s\n", cg ? "cg" : "gmres",
+                   k.iterations, k.relative_residual, tolerance, fresh_ ? "this matrix" : "an earlier matrix");
     stats_.krylov_iterations += k.iterations;
     if (k.iterations > options_.max_iterations) stale_ = true;
     if (k.converged) return k.x;

@@ -12,14 +12,15 @@ namespace fibrane::solve {
 
 // Settings of KrylovReuseSolver (case files: steps.krylov).
 struct KrylovReuseOptions {
-  // Every solve ends at |b - A x| <= tolerance |b|. Newton's own tolerance then decides convergence, and
-  // its contraction is that of exact Newton while tolerance is well below Newton's contraction per update.
+  // Every solve ends at |b - A x| <= tolerance |b|, or at the looser accuracy its caller asks for
+  // (solve_to: newton_solve's forcing terms).
   double tolerance = 1e-8;
   // A solve that needed more Krylov iterations marks the factorisation stale: the next factorize()
   // factorises its matrix. A solve that does not converge within 3 x max_iterations factorises the
   // current matrix at once and solves again.
   int max_iterations = 20;
   int restart = 60;  // GMRES(restart)
+  bool verbose = false;  // a line per Krylov solve on stderr (fibrane run --newton-log)
 };
 
 // Counts for reports.
@@ -48,7 +49,9 @@ class KrylovReuseSolver final : public LinearSolver {
   void analyze(const Eigen::SparseMatrix<double>& a) override;
   bool factorize(const Eigen::SparseMatrix<double>& a) override;
   bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override;
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return solve_to(b, 0.0); }
+  // Iterates to max(relative_accuracy, options.tolerance).
+  Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double relative_accuracy) const override;
   std::string name() const override { return "krylov(" + direct_->name() + ")"; }
   long factor_nonzeros() const override { return direct_->factor_nonzeros(); }
   std::string analysis_summary() const override;

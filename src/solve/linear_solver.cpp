@@ -211,6 +211,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
   KrylovReuseOptions k;
   k.tolerance = settings.krylov_tolerance;
   k.max_iterations = settings.krylov_max_iterations;
+  k.verbose = settings.verbose;
   return std::make_unique<KrylovReuseSolver>(std::move(direct), k, symmetric);
 }
 

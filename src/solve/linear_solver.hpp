@@ -18,6 +18,9 @@ class LinearSolver {
   virtual void analyze(const Eigen::SparseMatrix<double>& a) = 0;    // symbolic; reused while the pattern is unchanged
   virtual bool factorize(const Eigen::SparseMatrix<double>& a) = 0;  // false on failure (singular / not PD)
   virtual Eigen::VectorXd solve(const Eigen::VectorXd& b) const = 0;
+  // solve() for a caller that accepts |A x - b| <= relative_accuracy |b| (an inexact Newton method):
+  // iterative solvers may stop there; direct ones solve as solve() does.
+  virtual Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double /*relative_accuracy*/) const { return solve(b); }
   virtual std::string name() const = 0;
   virtual long factor_nonzeros() const = 0;
   // How the analyses went (how many, with which ordering method), for reports; may be empty.
@@ -56,6 +59,7 @@ struct LinearSolverSettings {
   bool krylov = false;   // KrylovReuseSolver around the direct solver (always with single or low_rank)
   double krylov_tolerance = 1e-8;
   int krylov_max_iterations = 20;
+  bool verbose = false;  // KrylovReuseSolver's line per solve (fibrane run --newton-log)
 };
 
 // make_linear_solver(settings.kind, symmetric) and, for krylov, single precision or low rank, the

@@ -19,6 +19,18 @@ double residual_norm(const NonlinearSystem& sys) {
   return sys.residual().norm();
 }
 
+// The relative accuracy of the next linear solve (NewtonOptions::forcing_max): Eisenstat and Walker's
+// choice 2 (gamma = 0.9, alpha = 2) from the last contraction, capped, and relaxed to what the tolerance needs.
+double forcing_term(const NewtonOptions& opt, const std::vector<double>& history, double scale) {
+  if (opt.forcing_max <= 0 || history.empty()) return 0.0;
+  const double norm = history.back();
+  double eta = opt.forcing_max;
+  if (history.size() >= 2) eta = std::min(eta, 0.9 * std::pow(norm / history[history.size() - 2], 2));
+  const double tolerance = std::max(opt.tol_relative * scale, opt.tol_absolute);
+  if (norm > 0) eta = std::max(eta, std::min(opt.forcing_max, 0.5 * tolerance / norm));
+  return eta;
+}
+
 }  // namespace
 
 const Eigen::VectorXd& NonlinearSystem::load_derivative() const {
@@ -144,7 +156,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       ++rep.factorizations;
       rep.negative_eigenvalues = solver.negative_eigenvalues();
     }
-    const Eigen::VectorXd dq = solver.solve(-r);
+    const Eigen::VectorXd dq = solver.solve_to(-r, forcing_term(opt, rep.history, scale));
     if (!dq.allFinite()) {
       rep.failure = "non-finite Newton update at iteration " + std::to_string(it);
       return rep;

@@ -69,6 +69,11 @@ struct NewtonOptions {
   // |r| by at least 4; otherwise the tangent is assembled and factorised again. Where Newton converges
   // quadratically this replaces the last factorisations of a step by solves.
   double reuse_below = 0;
+  // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
+  // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term
+  // eta = 0.9 (|r_k| / |r_k-1|)^2 (forcing_max for the first update), at most forcing_max, and never
+  // stricter than 0.5 tol / |r| (what reaching the tolerance with this update needs). 0: exact solves.
+  double forcing_max = 0.01;
   bool verbose = false;               // one line per iteration on stderr
   double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
 };
