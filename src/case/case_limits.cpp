@@ -55,7 +55,21 @@ double ModelSize::bytes() const {
   // Vectors and per-DOF bookkeeping; element pattern positions (one int per element matrix entry, bounded
   // by nonzeros times the number of elements sharing an entry, taken as 4); the matrix (value and index)
   // twice (assembled and the solver's copy); the factor (value and index); per quadrature point state.
-  return 400.0 * dofs + 4.0 * 4.0 * nonzeros + 2.0 * 12.0 * nonzeros + 12.0 * factor_nonzeros + 500.0 * points;
+  return 400.0 * dofs + 4.0 * 4.0 * nonzeros + 2.0 * 12.0 * nonzeros + 12.0 * factor_scale * factor_nonzeros +
+         8.0 * vectors * dofs + 500.0 * points;
+}
+
+void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric) {
+  const std::string& kind = settings.kind;
+  const bool lu = kind == "mumps-lu" || kind == "umfpack" || kind == "umfpack64" || (kind == "auto" && !symmetric);
+  const bool single = settings.precision == "single";
+  const bool mumps = kind == "mumps" || (kind == "auto" && (single || settings.low_rank > 0));
+  size.factor_scale = lu ? 2.2 : mumps ? 1.1 : 1.0;
+  if (single) size.factor_scale *= 0.5;
+  const bool krylov = settings.krylov || single || settings.low_rank > 0;
+  size.vectors = krylov ? 64.0 : 0.0;  // GMRES(restart) basis and work vectors
+  size.path = std::string(lu ? "an LU" : "a symmetric factorisation") + (single ? " in single precision" : "") +
+              (krylov ? " with Krylov solves" : "");
 }
 
 ModelSize shell_size(double control_points, double elements, int p, int q, int points) {
@@ -108,9 +122,11 @@ void check_fits(const ModelSize& size, const io::YamlNode& node) {
   if (size.bytes() <= available) return;
   node.fail_message(fmt::format(
       "the model would be too large: about {:.3g} DOFs, {:.3g} elements, {:.3g} matrix non-zeros, estimated "
-      "{:.3g} GiB of memory, more than this machine's {:.3g} GiB{}: use fewer elements or a lower degree",
-      size.dofs, size.elements, size.nonzeros, size.bytes() / (1ull << 30), available / (1ull << 30),
-      memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)"));
+      "{:.3g} GiB of memory{}, more than this machine's {:.3g} GiB{}: use fewer elements or a lower degree{}",
+      size.dofs, size.elements, size.nonzeros, size.bytes() / (1ull << 30),
+      size.path.empty() ? "" : " (" + size.path + ")", available / (1ull << 30),
+      memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)",
+      size.path.empty() || size.factor_scale <= 0.55 ? "" : ", or steps.precision: single"));
 }
 
 int optional_int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {

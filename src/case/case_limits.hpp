@@ -8,6 +8,7 @@
 
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
+#include "solve/linear_solver.hpp"
 
 namespace fibrane::casefile {
 
@@ -34,10 +35,22 @@ int read_gauss_points(const io::YamlNode& node, int degree);
 // A rough size of the discrete model: DOFs, elements, quadrature points and matrix non-zeros.
 struct ModelSize {
   double dofs = 0, elements = 0, points = 0, nonzeros = 0;
-  double factor_nonzeros = 0;  // of the sparse factorisation (fill-in estimate)
+  double factor_nonzeros = 0;  // of a sparse Cholesky factorisation (fill-in estimate)
+  // The factorisation's memory relative to a double-precision Cholesky factor of factor_nonzeros entries,
+  // and the work vectors per unknown of the solver's path (set_solver_path). The default, 0.5, is the
+  // lightest path (a single-precision LDL^T): the checks while bodies are read refuse only what no path
+  // can hold; the check of the whole case takes the case's path.
+  double factor_scale = 0.5, vectors = 0;
+  std::string path;  // the solver path, for messages (empty: not known yet)
   ModelSize& operator+=(const ModelSize& o);
   double bytes() const;  // estimated peak memory of assembly and factorisation
 };
+
+// The linear solver path a case's settings take for a model with or without a symmetric tangent:
+// factor_scale 2.2 for an LU (L and U; MUMPS's LU of the bending tangent has 2.2 times the entries of
+// CHOLMOD's LL^T), 1.1 for MUMPS's LDL^T, 1 for CHOLMOD, halved in single precision; block low-rank is
+// taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis.
+void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric);
 
 // Size of a shell with `control_points` control points, `elements` elements of degrees (p, q) and
 // `points` quadrature points per element; of a beam likewise (degree p, 4 DOFs per control point).

@@ -264,6 +264,11 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
   for_each_entry(root.optional("monitors"), [&](const io::YamlNode& n) { read_monitor(m, n); });
   check_monitor_names(m, root);
   read_steps(c.run, root.optional("steps"));
+  {  // the whole model's memory on the solver path it will take
+    ModelSize size = model_size(m);
+    set_solver_path(size, c.run.linear_solver, m.symmetric());
+    check_fits(size, root.has("steps") ? root["steps"] : root);
+  }
   check_stop_column(c.run, m, root);
   if (c.run.method == Method::dynamics) {
     m.inertia = true;

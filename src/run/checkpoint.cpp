@@ -75,6 +75,9 @@ std::vector<std::vector<io::PvdCollection::Entry>> get_series(const io::Checkpoi
 void check_history(const std::string& directory, const std::string& checkpoint, std::size_t rows,
                    const std::string& hash) {
   const std::string path = (std::filesystem::path(directory) / "history.csv").string();
+  // The restart appends to it, and nothing is written through a link (io/csv.hpp).
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(path)))
+    throw InputError(path + ": cannot continue it: it is not a regular file (a symbolic link)");
   const std::string text = io::read_regular_file(path, "history");
   std::size_t end = 0, lines = 0;
   for (; lines < rows + 1; ++lines) {

@@ -19,7 +19,7 @@ struct KrylovReuseOptions {
   // factorises its matrix. A solve that does not converge within 3 x max_iterations factorises the
   // current matrix at once and solves again.
   int max_iterations = 20;
-  int restart = 60;  // GMRES(restart)
+  int restart = 60;  // GMRES(restart): the basis holds restart + 1 vectors (3 x max_iterations by default)
   bool verbose = false;  // a line per Krylov solve on stderr (fibrane run --newton-log)
 };
 

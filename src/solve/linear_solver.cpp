@@ -2,6 +2,8 @@
 // the factory of the case files' kinds.
 #include "solve/linear_solver.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -16,6 +18,11 @@ namespace fibrane::solve {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
+
+// fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
+// iteration); a new pattern's factor is larger and rarely fits the old one's place, so the freed factors
+// are handed back at each new analysis, before the new factor is made, instead of adding to the peak.
+void hand_back_freed_memory() { malloc_trim(0); }
 
 // LL^T first, then a symmetric indefinite factorisation. An indefinite tangent is often a single wild
 // Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
@@ -38,9 +45,10 @@ class AutoSolver final : public LinearSolver {
   static constexpr Eigen::Index kSimplicialLimit = 20000;
   void analyze(const SpMat& a) override {
     if (!llt_) llt_ = make_cholmod_llt();
-    llt_->analyze(a);
+    llt_->analyze(a);  // frees the last numeric factor
     fallback_.reset();
     current_ = llt_.get();
+    hand_back_freed_memory();
   }
   bool factorize(const SpMat& a) override {
     if (!llt_) analyze(a);
@@ -128,6 +136,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       current_ = lu_.get();
     }
     current_->analyze(a);
+    hand_back_freed_memory();
   }
 
   Factory make_symmetric_, make_lu_;

@@ -1,0 +1,95 @@
+// The Krylov path (steps.krylov: factorisations reused as preconditioners) against the direct path on
+// arc-length runs through limit points: the coarse peeling example (pull-off and the detached beam) and
+// the shallow roof (snap-through). Every corrector solve is a Krylov solve to 1e-8 (arc-length passes no
+// forcing term), so both paths take the same steps and agree to the Newton tolerance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "case_runner.hpp"
+#include "solve/krylov_reuse.hpp"
+
+namespace fibrane::testing {
+namespace {
+
+struct PathRun {
+  CaseRun run;
+  solve::KrylovReuseStatistics stats;  // of the Krylov run
+};
+
+// Runs the case with the direct solver, or through a KrylovReuseSolver whose statistics are returned.
+PathRun run_path(const std::string& name, const std::string& yaml, bool krylov) {
+  const auto dir = fresh_directory(name);
+  const auto file = dir / (name + ".yaml");
+  std::ofstream(file) << yaml;
+  PathRun p{{casefile::read_case(file.string()), {}, {}, dir / "out"}, {}};
+  run::RunOptions opt;
+  opt.output_directory = p.run.directory.string();
+  opt.quiet = true;
+  opt.threads = 1;
+  solve::KrylovReuseSolver* solver = nullptr;
+  if (krylov)
+    opt.make_solver = [&solver](bool symmetric) {
+      auto s = std::make_unique<solve::KrylovReuseSolver>(solve::make_linear_solver("auto", symmetric),
+                                                          solve::KrylovReuseOptions{}, symmetric);
+      solver = s.get();
+      return std::unique_ptr<solve::LinearSolver>(std::move(s));
+    };
+  p.run.summary = run::run_case(p.run.c, opt);
+  p.run.history = read_history(p.run.directory / "history.csv");
+  if (solver) p.stats = solver->statistics();
+  return p;
+}
+
+// Every column of `b` equals `a`'s to `tolerance` times the column's largest magnitude (columns that
+// depend on how the solves went are left out, and those that are zero up to round-off, below 1e-12, such as
+// the peeling beam's lateral force, are compared to 1e-12 absolute).
+void expect_same_path(const History& a, const History& b, double tolerance) {
+  ASSERT_EQ(a.at("t").size(), b.at("t").size()) << "steps";
+  for (const auto& [name, column] : a) {
+    if (name == "iterations" || name == "residual" || name == "negative_eigenvalues") continue;
+    double scale = 0, worst = 0;
+    for (std::size_t i = 0; i < column.size(); ++i) {
+      scale = std::max(scale, std::abs(column[i]));
+      worst = std::max(worst, std::abs(column[i] - b.at(name)[i]));
+    }
+    EXPECT_LE(worst, scale < 1e-12 ? 1e-12 : tolerance * scale) << name;
+  }
+}
+
+TEST(KrylovPath, PeelingThroughPullOffEqualsTheDirectPath) {
+  const std::string yaml = example_text("peeling.yaml", {{"elements: [20, 10]", "elements: [6, 4]"},
+                                                         {"elements: 100", "elements: 20"},
+                                                         {"ds: 0.02, ds_max: 0.5", "ds: 0.01, ds_max: 0.4"},
+                                                         {"output: {directory: out/peeling, vtk_every: 5}",
+                                                          "output: {vtk: false}"}});
+  const PathRun direct = run_path("krylov-peeling-direct", yaml, false);
+  const PathRun krylov = run_path("krylov-peeling", yaml, true);
+  ASSERT_TRUE(direct.run.summary.result.completed());
+  ASSERT_TRUE(krylov.run.summary.result.completed()) << krylov.run.summary.result.message;
+  // Newton's absolute tolerance is 1e-8 on forces of O(0.1-1): states agree to ~1e-8 relative; 1e-6 of each
+  // column's range leaves room for the conditioning at the turns of the path and still catches a path
+  // that took another step or branch (those differ by 1e-2 or more).
+  expect_same_path(direct.run.history, krylov.run.history, 1e-6);
+  const auto& limit = krylov.run.history.at("limit_point");
+  EXPECT_EQ(std::count(limit.begin(), limit.end(), 1.0), 2) << "pull-off and the lowest point";
+  // The reuse worked across the limit points: fewer factorisations than corrector solves, and the Krylov
+  // solves iterated.
+  EXPECT_GT(krylov.stats.krylov_iterations, 0);
+  EXPECT_LT(krylov.stats.factorizations, krylov.stats.solves / 2);
+}
+
+TEST(KrylovPath, ShallowRoofSnapThroughEqualsTheDirectPath) {
+  const std::string yaml = example_text("shallow-roof.yaml");
+  const PathRun direct = run_path("krylov-roof-direct", yaml, false);
+  const PathRun krylov = run_path("krylov-roof", yaml, true);
+  ASSERT_TRUE(direct.run.summary.result.completed());
+  ASSERT_TRUE(krylov.run.summary.result.completed()) << krylov.run.summary.result.message;
+  // Default Newton tolerance 1e-9 relative: 1e-6 of each column's range as above.
+  expect_same_path(direct.run.history, krylov.run.history, 1e-6);
+  EXPECT_GT(krylov.stats.krylov_iterations, 0);
+  EXPECT_LT(krylov.stats.factorizations, krylov.stats.solves / 2);
+}
+
+}  // namespace
+}  // namespace fibrane::testing
