@@ -113,14 +113,16 @@ KrylovResult preconditioned_gmres(const VectorOperator& a, const VectorOperator&
     const Eigen::VectorXd y =
         h.topLeftCorner(k, k).triangularView<Eigen::Upper>().solve(g.head(k));
     m_inverse(v.leftCols(k) * y, z);
-    res.x += z;
-    a(res.x, ax);
-    r = b - ax;
-    const double new_norm = r.norm();
-    if (!(new_norm < r_norm) && k < m) {  // no progress (lucky breakdown on a singular operator)
-      r_norm = new_norm;
-      break;
-    }
+    const Eigen::VectorXd x_new = res.x + z;
+    a(x_new, ax);
+    const Eigen::VectorXd r_new = b - ax;
+    const double new_norm = r_new.norm();
+    // The recurrence's residual is exact only in exact arithmetic: with a preconditioner far from A^-1
+    // (an approximate factor of an ill-conditioned matrix) the true residual can be larger. GMRES then
+    // keeps the better iterate and stops; the caller sees converged = false.
+    if (!(new_norm < r_norm)) break;
+    res.x = x_new;
+    r = r_new;
     r_norm = new_norm;
   }
   res.relative_residual = r_norm / b_norm;

@@ -28,7 +28,8 @@ KrylovResult preconditioned_cg(const VectorOperator& a, const VectorOperator& m_
 
 // GMRES(restart) with right preconditioning (A M^-1 y = b - A x0, x = x0 + M^-1 y), so its residual is the
 // true residual of the unpreconditioned system; modified Gram-Schmidt with one reorthogonalisation, Givens
-// rotations. Stops at |b - A x| <= tolerance |b| or after max_iterations operator applications.
+// rotations. Stops at |b - A x| <= tolerance |b|, after max_iterations operator applications, or when a
+// cycle does not lower the true residual (the best iterate is returned).
 KrylovResult preconditioned_gmres(const VectorOperator& a, const VectorOperator& m_inverse, const Eigen::VectorXd& b,
                                   const Eigen::VectorXd& x0, double tolerance, int max_iterations, int restart);
 

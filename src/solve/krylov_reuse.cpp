@@ -9,8 +9,18 @@
 namespace fibrane::solve {
 
 KrylovReuseSolver::KrylovReuseSolver(std::unique_ptr<LinearSolver> direct, const KrylovReuseOptions& options,
-                                     bool symmetric)
-    : direct_(std::move(direct)), options_(options), symmetric_(symmetric) {}
+                                     bool symmetric, Factory exact_fallback)
+    : direct_(std::move(direct)), exact_fallback_(std::move(exact_fallback)), options_(options), symmetric_(symmetric) {}
+
+bool KrylovReuseSolver::fall_back_to_exact() const {
+  direct_ = exact_fallback_();
+  ++stats_.exact_fallbacks;
+  pending_analysis_ = true;
+  const bool ok = refactorize();
+  if (options_.verbose)
+    std::fprintf(stderr, "  the approximate factorisation could not be refined; from now on %s\n", direct_->name().c_str());
+  return ok;
+}
 
 void KrylovReuseSolver::analyze(const Eigen::SparseMatrix<double>& a) {
   pending_analysis_ = true;
@@ -67,6 +77,8 @@ Eigen::VectorXd KrylovReuseSolver::solve_to(const Eigen::VectorXd& b, double rel
     stats_.krylov_iterations += k.iterations;
     if (k.iterations > options_.max_iterations) stale_ = true;
     if (k.converged) return k.x;
+    // A fresh approximate factorisation that cannot be refined: the exact solver from now on.
+    if (fresh_ && !direct_->exact() && exact_fallback_) return fall_back_to_exact() ? direct_->solve(b) : failed();
     // Not converged with this preconditioner: factorise the current matrix (once) and solve again.
     if (fresh_ || attempt > 0) return failed();
     ++stats_.stale_refactorizations;

@@ -3,6 +3,7 @@
 // on the tangents of later Newton iterations and steps, until the Krylov iteration count says it has
 // gone stale. It also refines approximate factorisations (single precision, block low-rank) to double
 // precision.
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -31,6 +32,7 @@ struct KrylovReuseStatistics {
   long krylov_solves = 0;        // solves that iterated (a reused or an inexact factorisation)
   long krylov_iterations = 0;
   long stale_refactorizations = 0;  // factorisations forced within a solve that did not converge
+  long exact_fallbacks = 0;         // approximate factorisations replaced by the exact solver (0 or 1)
 };
 
 // Wraps a direct solver. factorize(a) records a (which must stay alive and unchanged until the next
@@ -43,9 +45,15 @@ struct KrylovReuseStatistics {
 // negative_eigenvalues() is that of the current matrix when it was factorised, -1 when a factorisation
 // of another matrix is being reused. factorize_exactly() always factorises (arc-length's sign rule needs
 // the inertia of the tangent at a converged state).
+// An approximate factorisation (single precision, low rank) of an ill-conditioned matrix can be too far
+// from it for any Krylov method (condition number times single precision's 6e-8 above 1): when the
+// refinement of a fresh approximate factorisation fails, the solver switches for good to the solver that
+// `exact_fallback` makes (the same path in double precision), factorises and solves with it.
 class KrylovReuseSolver final : public LinearSolver {
  public:
-  KrylovReuseSolver(std::unique_ptr<LinearSolver> direct, const KrylovReuseOptions& options, bool symmetric);
+  using Factory = std::function<std::unique_ptr<LinearSolver>()>;
+  KrylovReuseSolver(std::unique_ptr<LinearSolver> direct, const KrylovReuseOptions& options, bool symmetric,
+                    Factory exact_fallback = {});
   void analyze(const Eigen::SparseMatrix<double>& a) override;
   bool factorize(const Eigen::SparseMatrix<double>& a) override;
   bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override;
@@ -61,8 +69,11 @@ class KrylovReuseSolver final : public LinearSolver {
 
  private:
   bool refactorize() const;
+  // Replaces an approximate direct solver by exact_fallback_'s and factorises the current matrix.
+  bool fall_back_to_exact() const;
 
-  std::unique_ptr<LinearSolver> direct_;
+  mutable std::unique_ptr<LinearSolver> direct_;
+  Factory exact_fallback_;
   KrylovReuseOptions options_;
   bool symmetric_;
   const Eigen::SparseMatrix<double>* matrix_ = nullptr;

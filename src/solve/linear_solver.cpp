@@ -158,6 +158,8 @@ bool LinearSolver::analyze_if_needed(const SpMat& a, int pattern_version) {
   return true;
 }
 
+namespace {
+
 // The LU of "auto" for unsymmetric matrices, and of "mumps-lu".
 std::unique_ptr<LinearSolver> make_lu(MumpsOptions options) {
   if (!mumps_available()) return make_umfpack(true);
@@ -165,6 +167,8 @@ std::unique_ptr<LinearSolver> make_lu(MumpsOptions options) {
   options.cholmod_ordering = true;
   return make_mumps(options);
 }
+
+}  // namespace
 
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric) {
   if (kind == "umfpack") return make_umfpack();
@@ -191,37 +195,43 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool s
                    "' (expected auto, cholmod, ldlt, mumps, mumps-lu, umfpack or umfpack64)");
 }
 
+namespace {
+
+// The direct solver of `settings`; with approximate = false, its exact counterpart (double precision,
+// full rank) for the same path.
+std::unique_ptr<LinearSolver> make_direct(const LinearSolverSettings& settings, bool symmetric, bool approximate) {
+  if (!approximate) return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric);
+  const std::string what = settings.low_rank > 0 ? "low_rank" : "precision: single";
+  if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
+  MumpsOptions o;
+  o.cholmod_ordering = true;
+  o.single_precision = settings.precision == "single";
+  o.low_rank = settings.low_rank > 0;
+  o.low_rank_tolerance = settings.low_rank;
+  if (settings.kind == "mumps-lu") return make_lu(o);
+  if (settings.kind == "mumps" || settings.kind == "auto") {
+    if (symmetric) return make_mumps(o);
+    if (settings.kind == "auto")
+      return std::make_unique<SymmetryProbingSolver>([o] { return make_mumps(o); }, [o] { return make_lu(o); });
+    throw InputError("linear solver 'mumps' needs a symmetric matrix; use 'auto' or 'mumps-lu'");
+  }
+  throw InputError("'" + what + "' is a MUMPS factorisation: it needs solver auto, mumps or mumps-lu, not '" +
+                   settings.kind + "'");
+}
+
+}  // namespace
+
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, bool symmetric) {
   const bool approximate = settings.precision == "single" || settings.low_rank > 0;
-  std::unique_ptr<LinearSolver> direct;
-  if (!approximate) {
-    direct = make_linear_solver(settings.kind, symmetric);
-  } else {
-    const std::string what = settings.low_rank > 0 ? "low_rank" : "precision: single";
-    if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
-    MumpsOptions o;
-    o.cholmod_ordering = true;
-    o.single_precision = settings.precision == "single";
-    o.low_rank = settings.low_rank > 0;
-    o.low_rank_tolerance = settings.low_rank;
-    if (settings.kind == "mumps-lu") {
-      direct = make_lu(o);
-    } else if (settings.kind == "mumps" || settings.kind == "auto") {
-      if (symmetric) direct = make_mumps(o);
-      else if (settings.kind == "auto")
-        direct = std::make_unique<SymmetryProbingSolver>([o] { return make_mumps(o); }, [o] { return make_lu(o); });
-      else throw InputError("linear solver 'mumps' needs a symmetric matrix; use 'auto' or 'mumps-lu'");
-    } else {
-      throw InputError("'" + what + "' is a MUMPS factorisation: it needs solver auto, mumps or mumps-lu, not '" +
-                       settings.kind + "'");
-    }
-  }
+  std::unique_ptr<LinearSolver> direct = make_direct(settings, symmetric, approximate);
   if (!settings.krylov && !approximate) return direct;
   KrylovReuseOptions k;
   k.tolerance = settings.krylov_tolerance;
   k.max_iterations = settings.krylov_max_iterations;
   k.verbose = settings.verbose;
-  return std::make_unique<KrylovReuseSolver>(std::move(direct), k, symmetric);
+  KrylovReuseSolver::Factory exact;
+  if (approximate) exact = [settings, symmetric] { return make_direct(settings, symmetric, false); };
+  return std::make_unique<KrylovReuseSolver>(std::move(direct), k, symmetric, std::move(exact));
 }
 
 }  // namespace fibrane::solve
