@@ -25,11 +25,8 @@ struct OutputSettings {
   bool bezier = true, sampled = true;
 };
 
-// The continuation methods a case can choose (steps.method).
-enum class Method { load_stepping, linear, arc_length, dynamics };
-
 struct RunSettings {
-  Method method = Method::load_stepping;
+  std::string method = "load_stepping";  // steps.method: a name of the registry (case/case_methods.hpp)
   solve::StepControl steps;
   solve::ArcLengthControl arc_length;  // its t_start, t_end and max_steps are ignored: run::make_method takes those of `steps`
   solve::TransientOptions dynamics;    // time steps: `steps` (t is time)

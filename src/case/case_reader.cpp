@@ -18,6 +18,7 @@
 #include "case/case_geometry.hpp"
 #include "case/case_laws.hpp"
 #include "case/case_limits.hpp"
+#include "case/case_methods.hpp"
 #include "case/case_output.hpp"
 #include "case/case_steps.hpp"
 #include "model/observables.hpp"
@@ -270,7 +271,8 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
     check_fits(size, root.has("steps") ? root["steps"] : root);
   }
   check_stop_column(c.run, m, root);
-  if (c.run.method == Method::dynamics) {
+  const bool dynamic = method_entry(c.run.method).traits.dynamic;
+  if (dynamic) {
     m.inertia = true;
     for (const auto& s : m.shells)
       if (!(s.density > 0)) root.fail_message("a dynamic run needs every body's material density: shell '" + s.name() + "' has none");
@@ -289,7 +291,7 @@ Case read_case(const std::string& path, const solve::Distribution* distribution)
   } catch (const InputError& e) {
     throw InputError(path + ": constraints: " + e.what());
   }
-  if (c.run.method != Method::dynamics) check_free_bodies(m, root);  // inertia holds a free body in time
+  if (!dynamic) check_free_bodies(m, root);  // inertia holds a free body in time
   return c;
 }
 

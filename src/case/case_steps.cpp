@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "case/case_limits.hpp"
+#include "case/case_methods.hpp"
 
 namespace fibrane::casefile {
 namespace {
@@ -27,62 +28,6 @@ void check_not_below_minimum(const io::YamlNode& map, const char* step, double v
   map[step].fail_message(fmt::format("expected {} >= {} = {} (the default smallest step; give a smaller {} to "
                                      "allow it), got {}",
                                      step, minimum_key, minimum, minimum_key, value));
-}
-
-// steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
-// max_path_length, direction}.
-void read_arc_length(solve::ArcLengthControl& a, const std::optional<io::YamlNode>& node, double start) {
-  if (!node) return;
-  if (auto v = node->optional("ds")) a.ds_initial = v->positive();
-  if (auto v = node->optional("ds_min")) a.ds_min = v->positive();
-  a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
-  check_not_below_minimum(*node, "ds", a.ds_initial, "ds_min", a.ds_min);
-  if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
-  a.desired_iterations = optional_int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
-                                "the Newton iterations a step aims at");
-  if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
-  if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
-  if (auto v = node->optional("scale")) {  // auto, cylindrical, or a positive number
-    const std::string text = v->is_scalar() ? v->as_string() : "";
-    if (text == "auto") a.load_scale = -1.0;
-    else if (text == "cylindrical") a.load_scale = 0.0;
-    else a.load_scale = v->positive();
-  }
-  if (auto v = node->optional("corrector"))
-    a.corrector = v->as_choice({"quadratic", "linearized"}) == "quadratic" ? solve::ArcLengthCorrector::quadratic
-                                                                           : solve::ArcLengthCorrector::linearized;
-  a.t_min = node->get("t_min", a.t_min);
-  a.t_max = node->get("t_max", a.t_max);
-  if (a.t_min > a.t_max) (*node)["t_max"].fail(fmt::format("t_max >= t_min = {}", a.t_min));
-  if (a.t_min > start) (*node)["t_min"].fail(fmt::format("t_min <= {} (the path starts at t = {})", start, start));
-  if (a.t_max < start) (*node)["t_max"].fail(fmt::format("t_max >= {} (the path starts at t = {})", start, start));
-  if (auto v = node->optional("max_path_length")) a.max_path_length = v->positive();
-  if (auto v = node->optional("direction"))
-    a.initial_direction = v->as_choice({"increasing", "decreasing"}) == "increasing" ? 1 : -1;
-  node->reject_unknown_keys();
-}
-
-// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, error_tolerance, energy_tolerance, start: rest | equilibrium | static}.
-void read_dynamics(solve::TransientOptions& d, const std::optional<io::YamlNode>& node) {
-  if (!node) return;
-  if (node->has("rho_inf") && node->has("scheme"))
-    (*node)["scheme"].fail_message("give either 'rho_inf' or 'scheme: trapezoidal'");
-  if (auto r = node->optional("rho_inf"))
-    d.parameters = solve::GeneralizedAlphaParameters::chung_hulbert(r->in_range(0.0, 1.0, false, false));
-  if (auto sc = node->optional("scheme")) {
-    sc->as_choice({"trapezoidal"});
-    d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
-  }
-  if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
-  if (auto v = node->optional("error_tolerance")) d.error_tolerance = v->in_range(0.0, 1.0, true, false);
-  if (auto v = node->optional("energy_tolerance")) d.energy_tolerance = v->positive();
-  if (auto v = node->optional("start")) {
-    const std::string start = v->as_choice({"rest", "equilibrium", "static"});
-    d.start = start == "rest"     ? solve::TransientOptions::Start::rest
-              : start == "static" ? solve::TransientOptions::Start::static_equilibrium
-                                  : solve::TransientOptions::Start::solve;
-  }
-  node->reject_unknown_keys();
 }
 
 void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
@@ -122,6 +67,62 @@ void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& nod
 
 }  // namespace
 
+// steps.arc_length: {ds, ds_min, ds_max, desired_iterations, growth, cutback, scale, corrector, t_min, t_max,
+// max_path_length, direction}.
+void read_arc_length(solve::ArcLengthControl& a, const io::YamlNode& map, double start) {
+  const io::YamlNode* node = &map;
+  if (auto v = node->optional("ds")) a.ds_initial = v->positive();
+  if (auto v = node->optional("ds_min")) a.ds_min = v->positive();
+  a.ds_max = node->has("ds_max") ? (*node)["ds_max"].positive() : std::max(a.ds_max, a.ds_initial);
+  check_not_below_minimum(*node, "ds", a.ds_initial, "ds_min", a.ds_min);
+  if (a.ds_max < a.ds_initial) (*node)["ds_max"].fail("ds_max >= ds");
+  a.desired_iterations = optional_int_in(*node, "desired_iterations", 1, 1000, a.desired_iterations,
+                                "the Newton iterations a step aims at");
+  if (auto v = node->optional("growth")) a.growth = v->in_range(1.0, 10.0, false, false);
+  if (auto v = node->optional("cutback")) a.cutback = v->in_range(0.0, 1.0, true, true);
+  if (auto v = node->optional("scale")) {  // auto, cylindrical, or a positive number
+    const std::string text = v->is_scalar() ? v->as_string() : "";
+    if (text == "auto") a.load_scale = -1.0;
+    else if (text == "cylindrical") a.load_scale = 0.0;
+    else a.load_scale = v->positive();
+  }
+  if (auto v = node->optional("corrector"))
+    a.corrector = v->as_choice({"quadratic", "linearized"}) == "quadratic" ? solve::ArcLengthCorrector::quadratic
+                                                                           : solve::ArcLengthCorrector::linearized;
+  a.t_min = node->get("t_min", a.t_min);
+  a.t_max = node->get("t_max", a.t_max);
+  if (a.t_min > a.t_max) (*node)["t_max"].fail(fmt::format("t_max >= t_min = {}", a.t_min));
+  if (a.t_min > start) (*node)["t_min"].fail(fmt::format("t_min <= {} (the path starts at t = {})", start, start));
+  if (a.t_max < start) (*node)["t_max"].fail(fmt::format("t_max >= {} (the path starts at t = {})", start, start));
+  if (auto v = node->optional("max_path_length")) a.max_path_length = v->positive();
+  if (auto v = node->optional("direction"))
+    a.initial_direction = v->as_choice({"increasing", "decreasing"}) == "increasing" ? 1 : -1;
+  node->reject_unknown_keys();
+}
+
+// steps.dynamics: {rho_inf: r | scheme: trapezoidal, mass_damping, error_tolerance, energy_tolerance, start: rest | equilibrium | static}.
+void read_dynamics(solve::TransientOptions& d, const io::YamlNode& map) {
+  const io::YamlNode* node = &map;
+  if (node->has("rho_inf") && node->has("scheme"))
+    (*node)["scheme"].fail_message("give either 'rho_inf' or 'scheme: trapezoidal'");
+  if (auto r = node->optional("rho_inf"))
+    d.parameters = solve::GeneralizedAlphaParameters::chung_hulbert(r->in_range(0.0, 1.0, false, false));
+  if (auto sc = node->optional("scheme")) {
+    sc->as_choice({"trapezoidal"});
+    d.parameters = solve::GeneralizedAlphaParameters::trapezoidal();
+  }
+  if (auto v = node->optional("mass_damping")) d.mass_damping = v->non_negative();
+  if (auto v = node->optional("error_tolerance")) d.error_tolerance = v->in_range(0.0, 1.0, true, false);
+  if (auto v = node->optional("energy_tolerance")) d.energy_tolerance = v->positive();
+  if (auto v = node->optional("start")) {
+    const std::string start = v->as_choice({"rest", "equilibrium", "static"});
+    d.start = start == "rest"     ? solve::TransientOptions::Start::rest
+              : start == "static" ? solve::TransientOptions::Start::static_equilibrium
+                                  : solve::TransientOptions::Start::solve;
+  }
+  node->reject_unknown_keys();
+}
+
 void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   if (!node) return;
   if (!node->is_map()) node->fail("a map of step settings (t_end, dt, ...)");
@@ -138,23 +139,20 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
   s.cutback = number_in(*node, "cutback", 0.0, 1.0, true, true, s.cutback);
   s.max_steps = optional_int_in(*node, "max_steps", 1, 100'000'000, s.max_steps, "the most steps of the run");
   if (auto method = node->optional("method")) {
-    const std::string m = method->as_choice({"load_stepping", "linear", "arc_length", "dynamics"});
-    run.method = m == "linear"       ? Method::linear
-                 : m == "arc_length" ? Method::arc_length
-                 : m == "dynamics"   ? Method::dynamics
-                                     : Method::load_stepping;
+    std::vector<std::string> names;
+    for (const MethodEntry& e : continuation_methods()) names.push_back(e.name);
+    run.method = method->as_choice(names);
   }
   if (auto linear = node->optional("linear")) {  // the short form of method: linear
     if (node->has("method")) linear->fail_message("give either 'linear' or 'method', not both");
-    if (linear->as_bool()) run.method = Method::linear;
+    if (linear->as_bool()) run.method = "linear";
   }
-  if (auto a = node->optional("arc_length")) {
-    if (run.method != Method::arc_length) a->fail_message("arc-length controls need 'method: arc_length'");
-    read_arc_length(run.arc_length, a, s.t_start);
-  }
-  if (auto d = node->optional("dynamics")) {
-    if (run.method != Method::dynamics) d->fail_message("time-integration controls need 'method: dynamics'");
-    read_dynamics(run.dynamics, d);
+  for (const MethodEntry& e : continuation_methods()) {
+    if (e.controls_key.empty()) continue;
+    if (auto controls = node->optional(e.controls_key)) {
+      if (run.method != e.name) controls->fail_message(e.controls_what + " need 'method: " + e.name + "'");
+      e.read_controls(run, *controls);
+    }
   }
   if (auto stop = node->optional("stop")) {
     if (stop->has("column") || stop->has("below_fraction_of_peak")) {

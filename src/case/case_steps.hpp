@@ -9,4 +9,9 @@ namespace fibrane::casefile {
 
 void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node);
 
+// The controls of the built-in methods (case/case_methods.cpp registers them): steps.arc_length (the path
+// starts at t = start) and steps.dynamics.
+void read_arc_length(solve::ArcLengthControl& a, const io::YamlNode& node, double start);
+void read_dynamics(solve::TransientOptions& d, const io::YamlNode& node);
+
 }  // namespace fibrane::casefile

@@ -263,7 +263,10 @@ Eigen::Vector3d YamlNode::as_vector3() const {
 }
 
 std::string YamlNode::as_choice(std::initializer_list<std::string_view> choices) const {
-  const std::vector<std::string> names(choices.begin(), choices.end());
+  return as_choice(std::vector<std::string>(choices.begin(), choices.end()));
+}
+
+std::string YamlNode::as_choice(const std::vector<std::string>& names) const {
   const std::string expected = "one of " + quoted_list(names);
   if (!node_.IsScalar()) fail(expected);
   const std::string& text = node_.Scalar();

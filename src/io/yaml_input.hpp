@@ -68,6 +68,7 @@ class YamlNode {
   std::vector<double> as_doubles() const;  // sequence of numbers
   Eigen::Vector3d as_vector3() const;      // [x, y, z]
   std::string as_choice(std::initializer_list<std::string_view> choices) const;
+  std::string as_choice(const std::vector<std::string>& choices) const;
 
   // Validated numbers.
   double positive() const;  // > 0

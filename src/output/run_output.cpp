@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "case/case_methods.hpp"
 #include "common/error.hpp"
 #include "io/atomic_file.hpp"
 #include "io/json.hpp"
@@ -108,7 +109,7 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
     : case_(c), dir_(std::move(directory)), observables_(model::observables(*c.model)) {
   namespace fs = std::filesystem;
   const std::string history = (fs::path(dir_) / "history.csv").string();
-  energy_ = c.run.method == casefile::Method::dynamics;
+  energy_ = casefile::method_entry(c.run.method).traits.dynamic;
   const std::vector<std::string> names = c.output.vtk ? vtk_series_names(c) : std::vector<std::string>{};
   if (resume && resume->series.size() != names.size())
     throw InputError(dir_ + ": the checkpoint's VTK series do not match the case's output settings");
@@ -199,7 +200,8 @@ std::vector<std::string> RunOutput::take_warnings() {
 void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
   if (!case_.output.vtk) return;
   std::size_t k = 0;
-  const bool by_path = case_.run.method == casefile::Method::arc_length;  // body_vtk.hpp, series_timestep
+  // body_vtk.hpp, series_timestep
+  const bool by_path = casefile::method_entry(case_.run.method).traits.path_parametrised;
   auto write = [&](const std::string& name, io::VtuMesh mesh) {
     const std::string rel = fmt::format("vtk/{}_{:06d}.vtu", name, r.step);
     manifest_->add(rel);

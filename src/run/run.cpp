@@ -21,10 +21,8 @@
 #include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
 #include "run/run_checks.hpp"
-#include "solve/arc_length.hpp"
+#include "case/case_methods.hpp"
 #include "solve/linear_solver.hpp"
-#include "solve/linear_step.hpp"
-#include "solve/load_stepping.hpp"
 
 namespace fibrane::run {
 
@@ -41,19 +39,7 @@ std::unique_ptr<solve::LinearSolver> make_solver(solve::LinearSolverSettings set
 std::unique_ptr<solve::ContinuationMethod> make_method(const casefile::RunSettings& s, bool verbose) {
   solve::NewtonOptions newton = s.newton;
   newton.verbose = verbose;
-  switch (s.method) {
-    case casefile::Method::linear: return std::make_unique<solve::LinearStep>(s.steps.t_start, s.steps.t_end);
-    case casefile::Method::arc_length: {
-      solve::ArcLengthControl control = s.arc_length;  // the run's range and step budget are those of `steps`
-      control.t_start = s.steps.t_start;
-      control.t_end = s.steps.t_end;
-      control.max_steps = s.steps.max_steps;
-      return std::make_unique<solve::ArcLength>(control, newton);
-    }
-    case casefile::Method::dynamics: return std::make_unique<solve::GeneralizedAlpha>(s.steps, newton, s.dynamics);
-    case casefile::Method::load_stepping: break;
-  }
-  return std::make_unique<solve::LoadStepping>(s.steps, newton);
+  return casefile::method_entry(s.method).make(s, newton);
 }
 
 namespace {
@@ -99,7 +85,7 @@ class Run {
         limits_(model::observables(m_)),
         progress_(options.quiet || !writes_ ? io::ProgressLine(c.run.steps.t_end, quiet_sink_, false)
                                             : io::ProgressLine(c.run.steps.t_end)) {
-    progress_.set_monotone(c.run.method != casefile::Method::arc_length);
+    progress_.set_monotone(!casefile::method_entry(c.run.method).traits.path_parametrised);
     // A checkpoint that does not fit fails here, before the output directory is touched.
     if (restart) resume(*restart);
     // A distributed run's processes hold the same state: the first one writes.
@@ -212,9 +198,8 @@ void Run::write_checkpoint(int step, double t, bool completed) {
 }
 
 bool Run::on_step(const solve::StepReport& r) {
-  const auto* dynamics = dynamic_cast<const solve::GeneralizedAlpha*>(method_.get());
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
-  if (dynamics) m_.set_reactions(&dynamics->state().reaction);
+  if (const Eigen::VectorXd* reactions = method_->reactions()) m_.set_reactions(reactions);
   if (out_) out_->write_history(m_, r);
   warn();
   if (limits_.add(r, m_) && !options_.quiet && writes_)

@@ -89,6 +89,9 @@ class ContinuationMethod {
   // converged step: sys.accept(q, t), then on_step. q holds the last converged state on return.
   virtual ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                                  const StepCallback& on_step) = 0;
+  // Support forces at the constrained DOFs of the last converged step that replace the residual's, where
+  // the method computes its own (time integration: inertia included); nullptr where the residual's hold.
+  virtual const Eigen::VectorXd* reactions() const { return nullptr; }
   // Restart support: the state after the last converged step, and its restoration before run().
   virtual MethodState save() const { return {}; }
   virtual void restore(const MethodState& /*state*/) {}

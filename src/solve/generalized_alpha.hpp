@@ -136,6 +136,7 @@ class GeneralizedAlpha final : public ContinuationMethod {
   void restore(const MethodState& state) override;
   // After run(): the state of the last converged step.
   const TransientState& state() const { return state_; }
+  const Eigen::VectorXd* reactions() const override { return &state_.reaction; }
 
  private:
   // The state at t_start (initial acceleration as TransientOptions::start says).

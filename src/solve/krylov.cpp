@@ -17,18 +17,22 @@ double true_relative_residual(const VectorOperator& a, const Eigen::VectorXd& b,
   return (b - ax).norm() / b_norm;
 }
 
+// A zero right-hand side: x = 0, no iteration.
+bool solved_trivially(double b_norm, Eigen::Index n, KrylovResult& res) {
+  if (b_norm != 0) return false;
+  res.x.setZero(n);
+  res.converged = true;
+  return true;
+}
+
 }  // namespace
 
 KrylovResult preconditioned_cg(const VectorOperator& a, const VectorOperator& m_inverse, const Eigen::VectorXd& b,
                                const Eigen::VectorXd& x0, double tolerance, int max_iterations) {
   KrylovResult res;
-  res.x = x0;
   const double b_norm = b.norm();
-  if (b_norm == 0) {
-    res.x.setZero(b.size());
-    res.converged = true;
-    return res;
-  }
+  if (solved_trivially(b_norm, b.size(), res)) return res;
+  res.x = x0;
   Eigen::VectorXd r, z, p, ap;
   a(res.x, ap);
   r = b - ap;
@@ -59,13 +63,9 @@ KrylovResult preconditioned_cg(const VectorOperator& a, const VectorOperator& m_
 KrylovResult preconditioned_gmres(const VectorOperator& a, const VectorOperator& m_inverse, const Eigen::VectorXd& b,
                                   const Eigen::VectorXd& x0, double tolerance, int max_iterations, int restart) {
   KrylovResult res;
-  res.x = x0;
   const double b_norm = b.norm();
-  if (b_norm == 0) {
-    res.x.setZero(b.size());
-    res.converged = true;
-    return res;
-  }
+  if (solved_trivially(b_norm, b.size(), res)) return res;
+  res.x = x0;
   const Eigen::Index n = b.size();
   const int m = std::max(1, restart);
   Eigen::MatrixXd v(n, m + 1);   // Krylov basis

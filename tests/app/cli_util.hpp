@@ -7,7 +7,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
 
 namespace fibrane::testing {
 
@@ -36,6 +40,23 @@ inline CliResult run_cli_command(const std::string& shell_command) {
 
 inline CliResult run_cli(const std::string& arguments) {
   return run_cli_command("'" + fibrane_binary() + "' " + arguments);
+}
+
+// Starts `fibrane run CASE -q --threads 1 -o OUT` in the background (output to /dev/null); returns its pid.
+inline pid_t spawn_run(const std::filesystem::path& case_file, const std::filesystem::path& out) {
+  const std::string bin = fibrane_binary(), file = case_file.string(), dir = out.string();
+  std::vector<std::string> args{bin, "run", file, "-q", "--threads", "1", "-o", dir};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, bin.c_str(), &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  return pid;
 }
 
 }  // namespace fibrane::testing

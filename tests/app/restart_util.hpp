@@ -117,23 +117,6 @@ inline const fs::path& reference_run() {
   return reference.out;
 }
 
-// Starts fibrane in the background (output to /dev/null); returns its pid.
-inline pid_t spawn_run(const fs::path& case_file, const fs::path& out) {
-  const std::string bin = fibrane_binary(), file = case_file.string(), dir = out.string();
-  std::vector<std::string> args{bin, "run", file, "-q", "--threads", "1", "-o", dir};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  EXPECT_EQ(posix_spawn(&pid, bin.c_str(), &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
-}
-
 // Waits until the run has written `rows` history rows (and, with `checkpoint`, a checkpoint), or ended.
 inline void wait_for_rows(pid_t pid, const fs::path& out, int rows, bool checkpoint) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);

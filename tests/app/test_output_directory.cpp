@@ -75,23 +75,6 @@ CliResult run_case(const fs::path& case_file, const std::string& options) {
   return run_cli("run '" + case_file.string() + "' -q --threads 1 " + options);
 }
 
-// Starts `fibrane run CASE -q --threads 1 -o OUT` in the background (output to /dev/null); returns its pid.
-pid_t spawn_run(const fs::path& case_file, const fs::path& out) {
-  const std::string bin = fibrane_binary(), file = case_file.string(), dir = out.string();
-  std::vector<std::string> args{bin, "run", file, "-q", "--threads", "1", "-o", dir};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  EXPECT_EQ(posix_spawn(&pid, bin.c_str(), &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  return pid;
-}
-
 // The regular files under `dir`, relative to it, without the lock file and the manifest.
 std::set<std::string> files_under(const fs::path& dir) {
   std::set<std::string> files;

@@ -17,6 +17,29 @@ struct PathRun {
   solve::KrylovReuseStatistics stats;  // of the Krylov run
 };
 
+// Forwards to a KrylovReuseSolver and copies its statistics out when the run destroys it.
+class RecordingSolver final : public solve::LinearSolver {
+ public:
+  RecordingSolver(std::unique_ptr<solve::KrylovReuseSolver> inner, solve::KrylovReuseStatistics& out)
+      : inner_(std::move(inner)), out_(out) {}
+  ~RecordingSolver() override { out_ = inner_->statistics(); }
+  void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
+  bool factorize(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
+  bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize_exactly(a); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return inner_->solve(b); }
+  Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double accuracy) const override {
+    return inner_->solve_to(b, accuracy);
+  }
+  std::string name() const override { return inner_->name(); }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  int negative_eigenvalues() const override { return inner_->negative_eigenvalues(); }
+  bool exact() const override { return inner_->exact(); }
+
+ private:
+  std::unique_ptr<solve::KrylovReuseSolver> inner_;
+  solve::KrylovReuseStatistics& out_;
+};
+
 // Runs the case with the direct solver, or through a KrylovReuseSolver whose statistics are returned.
 PathRun run_path(const std::string& name, const std::string& yaml, bool krylov) {
   const auto dir = fresh_directory(name);
@@ -27,17 +50,15 @@ PathRun run_path(const std::string& name, const std::string& yaml, bool krylov) 
   opt.output_directory = p.run.directory.string();
   opt.quiet = true;
   opt.threads = 1;
-  solve::KrylovReuseSolver* solver = nullptr;
   if (krylov)
-    opt.make_solver = [&solver](bool symmetric) {
-      auto s = std::make_unique<solve::KrylovReuseSolver>(solve::make_linear_solver("auto", symmetric),
-                                                          solve::KrylovReuseOptions{}, symmetric);
-      solver = s.get();
-      return std::unique_ptr<solve::LinearSolver>(std::move(s));
+    opt.make_solver = [&p](bool symmetric) -> std::unique_ptr<solve::LinearSolver> {
+      return std::make_unique<RecordingSolver>(
+          std::make_unique<solve::KrylovReuseSolver>(solve::make_linear_solver("auto", symmetric),
+                                                     solve::KrylovReuseOptions{}, symmetric),
+          p.stats);
     };
   p.run.summary = run::run_case(p.run.c, opt);
   p.run.history = read_history(p.run.directory / "history.csv");
-  if (solver) p.stats = solver->statistics();
   return p;
 }
 

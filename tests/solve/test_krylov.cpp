@@ -2,8 +2,8 @@
 // changed matrices, refined single-precision and low-rank factorisations, the staleness rule.
 #include <gtest/gtest.h>
 
-#include <random>
 
+#include "grid_matrix.hpp"
 #include "solve/direct_solvers.hpp"
 #include "solve/krylov.hpp"
 #include "solve/krylov_reuse.hpp"
@@ -13,26 +13,6 @@ namespace fibrane::solve {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
-
-// 5-point Laplacian on an m x m grid plus shift * I and an upwind convection part (unsymmetric), and a
-// random symmetric perturbation of relative size `noise` on the existing entries (same pattern).
-SpMat grid(int m, double shift, double convection, double noise = 0, unsigned seed = 1) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Eigen::Triplet<double>> t;
-  auto id = [m](int i, int j) { return i * m + j; };
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.emplace_back(id(i, j), id(i, j), (4.0 + shift + convection) * (1 + noise * u(rng)));
-      if (i > 0) t.emplace_back(id(i, j), id(i - 1, j), -1.0 - convection);
-      if (i + 1 < m) t.emplace_back(id(i, j), id(i + 1, j), -1.0);
-      if (j > 0) t.emplace_back(id(i, j), id(i, j - 1), -1.0);
-      if (j + 1 < m) t.emplace_back(id(i, j), id(i, j + 1), -1.0);
-    }
-  SpMat a(m * m, m * m);
-  a.setFromTriplets(t.begin(), t.end());
-  return a;
-}
 
 double relative_residual(const SpMat& a, const Eigen::VectorXd& x, const Eigen::VectorXd& b) {
   return (b - a * x).norm() / b.norm();
@@ -46,7 +26,7 @@ VectorOperator multiply(const SpMat& a) {
 // condition number allows (kappa ~ 4 m^2 / pi^2 ~ 160 at m = 20: CG needs ~ sqrt(kappa) ln(2/tol) ~ 300 at
 // worst, well under 400); GMRES on the unsymmetric one likewise with restarts.
 TEST(Krylov, CgAndGmresSolveLaplacians) {
-  const SpMat spd = grid(20, 0.0, 0.0), unsym = grid(20, 0.0, 0.8);
+  const SpMat spd = grid_matrix(20, 0.0, 0.0), unsym = grid_matrix(20, 0.0, 0.8);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(400, -1, 3);
   const Eigen::VectorXd d = spd.diagonal();
   const VectorOperator jacobi = [&d](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = x.cwiseQuotient(d); };
@@ -63,7 +43,7 @@ TEST(Krylov, CgAndGmresSolveLaplacians) {
 
 // CG reports an indefinite operator instead of returning garbage.
 TEST(Krylov, CgDetectsIndefiniteOperators) {
-  const SpMat a = grid(10, -3.0, 0.0);  // strongly indefinite
+  const SpMat a = grid_matrix(10, -3.0, 0.0);  // strongly indefinite
   const VectorOperator identity = [](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = x; };
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(100, -1, 3);
   const KrylovResult r = preconditioned_cg(multiply(a), identity, b, Eigen::VectorXd::Zero(100), 1e-10, 200);
@@ -72,7 +52,7 @@ TEST(Krylov, CgDetectsIndefiniteOperators) {
 }
 
 TEST(Krylov, ParallelMultiplyEqualsEigensProduct) {
-  const SpMat a = grid(400, 0.3, 0.7);  // 160 000 rows, 800 k entries: above the threading threshold
+  const SpMat a = grid_matrix(400, 0.3, 0.7);  // 160 000 rows, 800 k entries: above the threading threshold
   const Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(a.cols(), -2, 5);
   Eigen::VectorXd y;
   parallel_multiply(a, x, y);
@@ -87,7 +67,7 @@ TEST(KrylovReuse, OneFactorisationServesNearbyMatrices) {
     o.tolerance = 1e-10;
     KrylovReuseSolver solver(make_linear_solver("auto", symmetric), o, symmetric);
     std::vector<SpMat> sequence;
-    for (unsigned k = 0; k < 5; ++k) sequence.push_back(grid(30, 0.2, symmetric ? 0.0 : 0.5, 0.02 * k, k + 1));
+    for (unsigned k = 0; k < 5; ++k) sequence.push_back(grid_matrix(30, 0.2, symmetric ? 0.0 : 0.5, 0.02 * k, k + 1));
     const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(900, -1, 3);
     solver.analyze(sequence[0]);
     for (const SpMat& a : sequence) {
@@ -114,7 +94,7 @@ TEST(KrylovReuse, StaleFactorisationIsRenewed) {
   o.tolerance = 1e-10;
   o.max_iterations = 3;
   KrylovReuseSolver solver(make_linear_solver("auto", false), o, false);
-  const SpMat first = grid(30, 0.2, 0.5), far = grid(30, 2.0, 0.1, 0.5, 7);
+  const SpMat first = grid_matrix(30, 0.2, 0.5), far = grid_matrix(30, 2.0, 0.1, 0.5, 7);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(900, -1, 3);
   solver.analyze(first);
   ASSERT_TRUE(solver.factorize(first));
@@ -131,7 +111,7 @@ TEST(KrylovReuse, StaleFactorisationIsRenewed) {
 // stale: no analysis happens for it.
 TEST(KrylovReuse, NewPatternOfTheSameSizeKeepsThePreconditioner) {
   KrylovReuseSolver solver(make_linear_solver("auto", true), {}, true);
-  const SpMat a = grid(30, 0.2, 0.0);
+  const SpMat a = grid_matrix(30, 0.2, 0.0);
   SpMat linked = a;
   linked.coeffRef(0, 450) = -0.1;
   linked.coeffRef(450, 0) = -0.1;
@@ -151,7 +131,7 @@ TEST(KrylovReuse, NewPatternOfTheSameSizeKeepsThePreconditioner) {
 // residual 1e-12, far below what the single-precision factor alone gives (~1e-7 times the condition).
 TEST(KrylovReuse, RefinesApproximateFactorisations) {
   if (!mumps_available()) GTEST_SKIP() << "built without MUMPS";
-  const SpMat spd = grid(60, 0.05, 0.0), unsym = grid(60, 0.05, 0.6);
+  const SpMat spd = grid_matrix(60, 0.05, 0.0), unsym = grid_matrix(60, 0.05, 0.6);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(3600, -1, 3);
   for (const auto& [kind, precision, low_rank, symmetric] :
        {std::tuple{"auto", "single", 0.0, true}, std::tuple{"auto", "single", 0.0, false},

@@ -6,6 +6,7 @@
 #include <string_view>
 
 #include "common/error.hpp"
+#include "grid_matrix.hpp"
 #include "solve/direct_solvers.hpp"
 #include "solve/linear_solver.hpp"
 
@@ -13,24 +14,6 @@ namespace fibrane::solve {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
-
-// 5-point Laplacian on an m x m grid (SPD, eigenvalues in (0, 8)) plus `shift` * I and an upwind
-// convection part of strength `convection` (makes it unsymmetric).
-SpMat grid_matrix(int m, double shift, double convection) {
-  std::vector<Eigen::Triplet<double>> t;
-  auto id = [m](int i, int j) { return i * m + j; };
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j < m; ++j) {
-      t.emplace_back(id(i, j), id(i, j), 4.0 + shift + convection);
-      if (i > 0) t.emplace_back(id(i, j), id(i - 1, j), -1.0 - convection);
-      if (i + 1 < m) t.emplace_back(id(i, j), id(i + 1, j), -1.0);
-      if (j > 0) t.emplace_back(id(i, j), id(i, j - 1), -1.0);
-      if (j + 1 < m) t.emplace_back(id(i, j), id(i, j + 1), -1.0);
-    }
-  SpMat a(m * m, m * m);
-  a.setFromTriplets(t.begin(), t.end());
-  return a;
-}
 
 double relative_error(const Eigen::VectorXd& x, const Eigen::VectorXd& ref) { return (x - ref).norm() / ref.norm(); }
 
