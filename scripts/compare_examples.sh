@@ -2,9 +2,10 @@
 # Runs every example with two fibrane binaries and compares their history.csv files column by column
 # (scripts/compare_histories.py, default tolerance 1e-10 of each column's scale).
 #   scripts/compare_examples.sh REFERENCE_BINARY NEW_BINARY [OUTDIR] [-- compare_histories options]
-# One thread each: threaded sums are added in an order that depends on the thread schedule, so two runs
-# of one binary with 2 threads already differ at round-off, which Newton's tolerance then lets through to
-# ~1e-9 of the reactions; with one thread a refactoring that keeps the arithmetic gives equal bits.
+# One thread each: threaded sums are added in an order fixed for a given thread count but not across
+# counts (and, in binaries before the ordered sums, not across runs either), which Newton's tolerance then
+# lets through to ~1e-9 of the reactions; with one thread a refactoring that keeps the arithmetic gives
+# equal bits.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 reference=${1:?reference binary}; new=${2:?new binary}; out=${3:-out/compare-examples}
