@@ -114,7 +114,9 @@ class Run {
   // either, the run's error is rethrown (it says what went wrong first).
   void write_summary(const RunSummary& summary, const io::JsonValue& extra) {
     try {
-      if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &extra);
+      io::JsonValue members = extra;
+      members.set("linear_solver_statistics", solver_->analysis_summary());
+      if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &members);
     } catch (...) {
       if (error_) std::rethrow_exception(error_);
       throw;
