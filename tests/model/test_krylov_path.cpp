@@ -32,6 +32,7 @@ class RecordingSolver final : public solve::LinearSolver {
   }
   std::string name() const override { return inner_->name(); }
   long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  std::string analysis_summary() const override { return inner_->analysis_summary(); }
   int negative_eigenvalues() const override { return inner_->negative_eigenvalues(); }
   bool exact() const override { return inner_->exact(); }
 
@@ -98,6 +99,9 @@ TEST(KrylovPath, PeelingThroughPullOffEqualsTheDirectPath) {
   // solves iterated.
   EXPECT_GT(krylov.stats.krylov_iterations, 0);
   EXPECT_LT(krylov.stats.factorizations, krylov.stats.solves / 2);
+  // summary.json's linear_solver_statistics gives the same count.
+  const std::string summary = read_text(krylov.run.directory / "summary.json");
+  EXPECT_NE(summary.find(std::to_string(krylov.stats.factorizations) + " factorisations"), std::string::npos) << summary;
 }
 
 TEST(KrylovPath, ShallowRoofSnapThroughEqualsTheDirectPath) {

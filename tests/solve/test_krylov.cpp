@@ -158,5 +158,41 @@ TEST(KrylovReuse, RefinesApproximateFactorisations) {
   EXPECT_GT(relative_residual(spd, raw->solve(b), b), 1e-9);
 }
 
+// An approximate factorisation that no Krylov method can refine within its iterations (its "solve" is a
+// scaled identity: GMRES on the 900-unknown grid needs far more than 3 x 5 iterations) is replaced for good
+// by the exact solver of the same path; the solve still meets the tolerance.
+class Useless final : public LinearSolver {
+ public:
+  void analyze(const SpMat& a) override { inner_->analyze(a); }
+  bool factorize(const SpMat& a) override { return inner_->factorize(a); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return 0.25 * b; }
+  std::string name() const override { return "useless"; }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  bool exact() const override { return false; }
+
+ private:
+  std::unique_ptr<LinearSolver> inner_ = make_linear_solver("auto", false);
+};
+
+TEST(KrylovReuse, UnrefinableApproximateFactorisationFallsBackToTheExactSolver) {
+  KrylovReuseOptions o;
+  o.tolerance = 1e-10;
+  o.max_iterations = 5;
+  KrylovReuseSolver solver(std::make_unique<Useless>(), o, false, [] { return make_linear_solver("auto", false); });
+  const SpMat a = grid_matrix(30, 0.2, 0.5);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(900, -1, 3);
+  solver.analyze(a);
+  ASSERT_TRUE(solver.factorize(a));
+  EXPECT_EQ(solver.name(), "krylov(useless)");
+  EXPECT_LT(relative_residual(a, solver.solve(b), b), 1e-10);
+  EXPECT_EQ(solver.statistics().exact_fallbacks, 1);
+  EXPECT_NE(solver.name(), "krylov(useless)");
+  // Without a fallback the solve fails visibly (NaN), never returning the unrefined solution.
+  KrylovReuseSolver alone(std::make_unique<Useless>(), o, false);
+  alone.analyze(a);
+  ASSERT_TRUE(alone.factorize(a));
+  EXPECT_FALSE(alone.solve(b).allFinite());
+}
+
 }  // namespace
 }  // namespace fibrane::solve
