@@ -29,8 +29,8 @@
 
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
-#include "solve/direct_solvers.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace {
 

@@ -19,7 +19,7 @@
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
 #include "run/run.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace {
 

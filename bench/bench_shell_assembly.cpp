@@ -24,7 +24,7 @@
 
 #include "case/case_reader.hpp"
 #include "case_edit.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 #include "spline/quadrature.hpp"
 
 namespace {

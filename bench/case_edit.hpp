@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 // True (after printing `usage` on stdout) when the first argument asks for help: the caller returns 0.
 inline bool help_requested(int argc, char** argv, const char* usage) {

@@ -10,8 +10,8 @@
 
 #include "case/case_reader.hpp"
 #include "case_edit.hpp"
-#include "solve/load_stepping.hpp"
-#include "solve/linear_solver.hpp"
+#include "path/load_stepping.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace {
 

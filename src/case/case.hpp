@@ -5,10 +5,10 @@
 #include <string>
 
 #include "model/model.hpp"
-#include "solve/arc_length.hpp"
-#include "solve/generalized_alpha.hpp"
-#include "solve/load_stepping.hpp"
-#include "solve/nonlinear.hpp"
+#include "path/arc_length.hpp"
+#include "path/generalized_alpha.hpp"
+#include "path/load_stepping.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::casefile {
 

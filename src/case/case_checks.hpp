@@ -8,7 +8,7 @@
 
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
-#include "solve/constraints.hpp"
+#include "linalg/constraints.hpp"
 
 namespace fibrane::casefile {
 

@@ -8,7 +8,7 @@
 
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::casefile {
 

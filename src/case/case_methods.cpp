@@ -3,10 +3,10 @@
 #include <stdexcept>
 
 #include "case/case_steps.hpp"
-#include "solve/arc_length.hpp"
-#include "solve/generalized_alpha.hpp"
-#include "solve/linear_step.hpp"
-#include "solve/load_stepping.hpp"
+#include "path/arc_length.hpp"
+#include "path/generalized_alpha.hpp"
+#include "path/linear_step.hpp"
+#include "path/load_stepping.hpp"
 
 namespace fibrane::casefile {
 

@@ -10,7 +10,7 @@
 
 #include "case/case.hpp"
 #include "io/yaml_input.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::casefile {
 

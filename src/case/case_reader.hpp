@@ -5,7 +5,7 @@
 #include <string>
 
 #include "case/case.hpp"
-#include "solve/forward.hpp"
+#include "linalg/forward.hpp"
 
 namespace fibrane::casefile {
 

@@ -8,7 +8,7 @@
 #include "model/ordered_sum.hpp"
 #include "common/parallel_errors.hpp"
 #include "model/saved_state.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::model {

@@ -10,7 +10,7 @@
 #include "beam/beam.hpp"
 #include "model/contribution.hpp"
 #include "spline/curve.hpp"
-#include "solve/forward.hpp"
+#include "linalg/forward.hpp"
 
 namespace fibrane::model {
 

@@ -21,7 +21,7 @@
 
 #include <Eigen/Dense>
 
-#include "solve/forward.hpp"
+#include "linalg/forward.hpp"
 
 namespace fibrane::model {
 

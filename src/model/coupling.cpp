@@ -10,8 +10,8 @@
 #include "model/beam_body.hpp"
 #include "model/ordered_sum.hpp"
 #include "model/shell_body.hpp"
-#include "solve/assembler.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/assembler.hpp"
+#include "linalg/dof_map.hpp"
 #include "spline/quadrature.hpp"
 #include "spline/surface_third.hpp"
 

@@ -13,7 +13,7 @@
 #include "interaction/soft_distance.hpp"
 #include "laws/interaction_law.hpp"
 #include "model/contribution.hpp"
-#include "solve/forward.hpp"
+#include "linalg/forward.hpp"
 
 namespace fibrane::model {
 

@@ -3,7 +3,7 @@
 #include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/shell_body.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::model {

@@ -11,7 +11,7 @@
 #include <Eigen/SparseCore>
 
 #include "model/contribution.hpp"
-#include "solve/newmark.hpp"
+#include "path/newmark.hpp"
 
 namespace fibrane::model {
 

@@ -5,7 +5,7 @@
 #include "model/saved_state.hpp"
 #include "model/shell_body.hpp"
 #include "shell/edge_moment.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/dof_map.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::model {

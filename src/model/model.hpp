@@ -20,12 +20,12 @@
 #include "model/loads.hpp"
 #include "model/monitor.hpp"
 #include "model/shell_body.hpp"
-#include "solve/assembler.hpp"
-#include "solve/constraints.hpp"
-#include "solve/distribution.hpp"
-#include "solve/dof_map.hpp"
-#include "solve/generalized_alpha.hpp"
-#include "solve/nonlinear.hpp"
+#include "linalg/assembler.hpp"
+#include "linalg/constraints.hpp"
+#include "linalg/distribution.hpp"
+#include "linalg/dof_map.hpp"
+#include "path/generalized_alpha.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::model {
 

@@ -4,7 +4,7 @@
 
 #include "model/ordered_sum.hpp"
 #include "common/parallel_errors.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/dof_map.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
 

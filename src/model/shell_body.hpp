@@ -10,7 +10,7 @@
 #include "shell/kl_shell.hpp"
 #include "interaction/soft_distance.hpp"
 #include "spline/surface.hpp"
-#include "solve/forward.hpp"
+#include "linalg/forward.hpp"
 
 namespace fibrane::model {
 

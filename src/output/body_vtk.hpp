@@ -4,7 +4,7 @@
 
 #include "io/vtk.hpp"
 #include "model/model.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::output {
 

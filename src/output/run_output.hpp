@@ -16,7 +16,7 @@
 #include "io/json.hpp"
 #include "io/vtk.hpp"
 #include "model/observables.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::output {
 

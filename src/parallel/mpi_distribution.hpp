@@ -2,7 +2,7 @@
 // solve::Distribution over an MPI communicator: the processes of `mpirun -np N fibrane run`.
 #include <mpi.h>
 
-#include "solve/distribution.hpp"
+#include "linalg/distribution.hpp"
 
 namespace fibrane::parallel {
 

@@ -13,7 +13,7 @@
 #include <fmt/format.h>
 
 #include "parallel/row_pattern.hpp"
-#include "solve/symmetry_probe.hpp"
+#include "linalg/symmetry_probe.hpp"
 
 namespace fibrane::parallel {
 namespace {

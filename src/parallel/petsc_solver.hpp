@@ -19,7 +19,7 @@
 #include <memory>
 
 #include "parallel/mpi_distribution.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::parallel {
 

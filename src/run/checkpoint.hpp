@@ -15,7 +15,7 @@
 
 #include "case/case.hpp"
 #include "output/run_output.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::run {
 

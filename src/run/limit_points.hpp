@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "model/observables.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::run {
 

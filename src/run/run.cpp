@@ -22,7 +22,7 @@
 #include "run/limit_points.hpp"
 #include "run/run_checks.hpp"
 #include "case/case_methods.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::run {
 

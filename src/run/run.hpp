@@ -6,7 +6,7 @@
 #include <string>
 
 #include "case/case.hpp"
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::run {
 

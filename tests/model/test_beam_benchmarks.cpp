@@ -14,8 +14,8 @@
 #include "case_runner.hpp"
 #include "common/error.hpp"
 #include "model/model.hpp"
-#include "solve/load_stepping.hpp"
-#include "solve/linear_solver.hpp"
+#include "path/load_stepping.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::testing {
 namespace {

@@ -17,7 +17,7 @@
 #include "case/case_reader.hpp"
 #include "common/parallel_errors.hpp"
 #include "run/run.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane {
 namespace {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "case_runner.hpp"
-#include "solve/krylov_reuse.hpp"
+#include "linalg/krylov_reuse.hpp"
 
 namespace fibrane::testing {
 namespace {

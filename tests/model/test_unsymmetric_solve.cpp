@@ -6,8 +6,8 @@
 #include <random>
 
 #include "case_runner.hpp"
-#include "solve/direct_solvers.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::testing {
 namespace {

@@ -12,10 +12,10 @@
 
 #include <Eigen/Dense>
 
-#include "solve/assembler.hpp"
-#include "solve/constraints.hpp"
-#include "solve/generalized_alpha.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/assembler.hpp"
+#include "linalg/constraints.hpp"
+#include "path/generalized_alpha.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve::testing {
 

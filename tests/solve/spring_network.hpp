@@ -9,9 +9,9 @@
 
 #include <Eigen/Dense>
 
-#include "solve/assembler.hpp"
-#include "solve/constraints.hpp"
-#include "solve/nonlinear.hpp"
+#include "linalg/assembler.hpp"
+#include "linalg/constraints.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::solve::testing {
 

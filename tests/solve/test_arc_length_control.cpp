@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solve/arc_length.hpp"
+#include "path/arc_length.hpp"
 #include "toy_systems.hpp"
 
 namespace fibrane::solve {

@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "solve/assembler.hpp"
-#include "solve/constraints.hpp"
+#include "linalg/assembler.hpp"
+#include "linalg/constraints.hpp"
 
 namespace fibrane::solve {
 namespace {

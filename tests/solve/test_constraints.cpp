@@ -7,8 +7,8 @@
 #include <string>
 
 #include "common/error.hpp"
-#include "solve/constraints.hpp"
-#include "solve/dof_map.hpp"
+#include "linalg/constraints.hpp"
+#include "linalg/dof_map.hpp"
 
 namespace fibrane::solve {
 namespace {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "common/error.hpp"
-#include "solve/load_stepping.hpp"
+#include "path/load_stepping.hpp"
 #include "spring_network.hpp"
 
 namespace fibrane::solve {

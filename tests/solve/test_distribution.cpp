@@ -1,7 +1,7 @@
 // solve::Distribution's split of the reduced unknowns into contiguous ranges (exact integer checks).
 #include <gtest/gtest.h>
 
-#include "solve/distribution.hpp"
+#include "linalg/distribution.hpp"
 
 namespace fibrane::solve {
 namespace {

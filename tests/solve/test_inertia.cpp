@@ -12,8 +12,8 @@
 #include <algorithm>
 #include <vector>
 
-#include "solve/direct_solvers.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 namespace {

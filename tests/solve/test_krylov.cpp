@@ -4,10 +4,10 @@
 
 
 #include "grid_matrix.hpp"
-#include "solve/direct_solvers.hpp"
-#include "solve/krylov.hpp"
-#include "solve/krylov_reuse.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/krylov.hpp"
+#include "linalg/krylov_reuse.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 namespace {

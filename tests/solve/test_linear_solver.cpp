@@ -7,8 +7,8 @@
 
 #include "common/error.hpp"
 #include "grid_matrix.hpp"
-#include "solve/direct_solvers.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 namespace {

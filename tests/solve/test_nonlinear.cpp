@@ -5,7 +5,7 @@
 #include <limits>
 #include <functional>
 
-#include "solve/nonlinear.hpp"
+#include "path/nonlinear.hpp"
 #include "spring_network.hpp"
 
 namespace fibrane::solve {

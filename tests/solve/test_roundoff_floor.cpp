@@ -8,7 +8,7 @@
 #include <limits>
 #include <numbers>
 
-#include "solve/nonlinear.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::solve {
 namespace {

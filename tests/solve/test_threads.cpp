@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 namespace {

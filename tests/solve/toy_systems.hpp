@@ -15,8 +15,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCore>
 
-#include "solve/continuation.hpp"
-#include "solve/nonlinear.hpp"
+#include "path/continuation.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::solve::testing {
 

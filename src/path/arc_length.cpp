@@ -1,4 +1,4 @@
-#include "solve/arc_length.hpp"
+#include "path/arc_length.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
-#include "solve/arc_length_detail.hpp"
+#include "path/arc_length_detail.hpp"
 
 namespace fibrane::solve {
 

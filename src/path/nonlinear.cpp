@@ -1,4 +1,4 @@
-#include "solve/nonlinear.hpp"
+#include "path/nonlinear.hpp"
 
 #include <algorithm>
 #include <cmath>

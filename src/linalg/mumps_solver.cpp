@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "solve/direct_solvers.hpp"
+#include "linalg/direct_solvers.hpp"
 
 #ifdef FIBRANE_HAVE_MUMPS
 #include <dmumps_c.h>

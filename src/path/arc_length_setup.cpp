@@ -6,8 +6,8 @@
 #include <stdexcept>
 
 #include "common/error.hpp"
-#include "solve/arc_length.hpp"
-#include "solve/arc_length_detail.hpp"
+#include "path/arc_length.hpp"
+#include "path/arc_length_detail.hpp"
 
 namespace fibrane::solve {
 

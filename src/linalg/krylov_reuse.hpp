@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 

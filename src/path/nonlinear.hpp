@@ -7,7 +7,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 

@@ -1,4 +1,4 @@
-#include "solve/linear_step.hpp"
+#include "path/linear_step.hpp"
 
 #include <algorithm>
 #include <cmath>

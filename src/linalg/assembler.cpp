@@ -1,4 +1,4 @@
-#include "solve/assembler.hpp"
+#include "linalg/assembler.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::solve {
 

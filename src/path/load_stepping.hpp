@@ -2,7 +2,7 @@
 // Load stepping: the load parameter t is prescribed step by step and each step is solved by Newton
 // (paper Sec. 2.3), with automatic cut-back of failed steps and growth after easy ones. It cannot pass a
 // limit point of t (use arc-length continuation for that); a case may declare such a stop its end.
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::solve {
 

@@ -2,7 +2,7 @@
 // The linearised problem: one Newton update from the start state at the full load t_end (a linear
 // analysis when the start is the undeformed state). The residual after the update is checked: a singular
 // or ill-posed system (free rigid-body modes) does not pass as a solution.
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::solve {
 

@@ -1,4 +1,4 @@
-#include "solve/krylov.hpp"
+#include "linalg/krylov.hpp"
 
 #include <algorithm>
 #include <cmath>

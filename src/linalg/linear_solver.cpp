@@ -1,6 +1,6 @@
 // The solvers that combine others: "auto" (AutoSolver) and its symmetry probe (SymmetryProbingSolver);
 // the factory of the case files' kinds.
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 #include <malloc.h>
 
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "common/error.hpp"
-#include "solve/direct_solvers.hpp"
-#include "solve/krylov_reuse.hpp"
-#include "solve/symmetry_probe.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/krylov_reuse.hpp"
+#include "linalg/symmetry_probe.hpp"
 
 namespace fibrane::solve {
 namespace {

@@ -1,7 +1,7 @@
 // The sparsity side of SparseAssembler: element tables (which reduced unknowns an element touches and
 // where its entries sit in the matrix), merging the variable elements into the fixed pattern, and
 // locating element entries. The numeric side (begin/add/end) is in assembler.cpp.
-#include "solve/assembler.hpp"
+#include "linalg/assembler.hpp"
 
 #include <algorithm>
 #include <numeric>

@@ -1,4 +1,4 @@
-#include "solve/symmetry_probe.hpp"
+#include "linalg/symmetry_probe.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -25,10 +25,10 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "solve/constraints.hpp"
-#include "solve/continuation.hpp"
-#include "solve/load_stepping.hpp"
-#include "solve/newmark.hpp"
+#include "linalg/constraints.hpp"
+#include "path/continuation.hpp"
+#include "path/load_stepping.hpp"
+#include "path/newmark.hpp"
 
 namespace fibrane::solve {
 

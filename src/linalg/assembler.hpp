@@ -24,8 +24,8 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 
-#include "solve/constraints.hpp"
-#include "solve/distribution.hpp"
+#include "linalg/constraints.hpp"
+#include "linalg/distribution.hpp"
 
 namespace fibrane::solve {
 

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 

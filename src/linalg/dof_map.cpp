@@ -1,4 +1,4 @@
-#include "solve/dof_map.hpp"
+#include "linalg/dof_map.hpp"
 
 #include <stdexcept>
 

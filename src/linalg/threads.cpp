@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 

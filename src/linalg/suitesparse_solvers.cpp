@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "solve/direct_solvers.hpp"
+#include "linalg/direct_solvers.hpp"
 
 namespace fibrane::solve {
 namespace {

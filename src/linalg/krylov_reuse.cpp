@@ -1,10 +1,10 @@
-#include "solve/krylov_reuse.hpp"
+#include "linalg/krylov_reuse.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <limits>
 
-#include "solve/krylov.hpp"
+#include "linalg/krylov.hpp"
 
 namespace fibrane::solve {
 

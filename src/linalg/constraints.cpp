@@ -1,4 +1,4 @@
-#include "solve/constraints.hpp"
+#include "linalg/constraints.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "solve/distribution.hpp"
+#include "linalg/distribution.hpp"
 
 #include <algorithm>
 

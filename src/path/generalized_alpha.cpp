@@ -1,4 +1,4 @@
-#include "solve/generalized_alpha.hpp"
+#include "path/generalized_alpha.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "common/error.hpp"
 #include "common/format.hpp"
-#include "solve/linear_solver.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 

@@ -25,7 +25,7 @@
 #include <memory>
 #include <string>
 
-#include "solve/continuation.hpp"
+#include "path/continuation.hpp"
 
 namespace fibrane::solve {
 

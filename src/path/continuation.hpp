@@ -13,7 +13,7 @@
 
 #include <Eigen/Dense>
 
-#include "solve/nonlinear.hpp"
+#include "path/nonlinear.hpp"
 
 namespace fibrane::solve {
 

@@ -1,4 +1,4 @@
-#include "solve/load_stepping.hpp"
+#include "path/load_stepping.hpp"
 
 #include <algorithm>
 #include <cmath>
