@@ -238,12 +238,18 @@ ConstraintOrigins read_constraints(Model& m, const io::YamlNode& root) {
 }  // namespace
 
 Case read_case(const std::string& path, const solve::Distribution* distribution) {
+  // Read once: the run never reads the file again.
+  return read_case_text(io::read_text_limited(path), path, std::filesystem::path(path).stem().string(), distribution);
+}
+
+Case read_case_text(std::string text, const std::string& path, const std::string& name,
+                    const solve::Distribution* distribution) {
   Case c;
-  c.text = io::read_text_limited(path);  // read once: the run never reads the file again
+  c.text = std::move(text);
   const auto root = io::YamlNode::load_string(c.text, path);
   if (!root.is_map()) root.fail("a map with the keys shells, beams, constraints, loads, steps, ...");
   c.path = path;
-  c.name = std::filesystem::path(path).stem().string();
+  c.name = name;
   c.model = std::make_unique<Model>();
   Model& m = *c.model;
   m.title = root.get("title", c.name);

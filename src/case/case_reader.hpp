@@ -13,4 +13,9 @@ namespace fibrane::casefile {
 // the processes (model::Model::set_distribution).
 Case read_case(const std::string& path, const solve::Distribution* distribution = nullptr);
 
+// The same from case text already in memory (the Python module's cases): `source` stands in for the file
+// name in messages and summary.json, `name` for its stem (the default title and output directory).
+Case read_case_text(std::string text, const std::string& source, const std::string& name,
+                    const solve::Distribution* distribution = nullptr);
+
 }  // namespace fibrane::casefile

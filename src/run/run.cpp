@@ -154,6 +154,7 @@ class Run {
   std::ostringstream quiet_sink_;
   io::ProgressLine progress_;
   bool stopped_ = false, interrupted_ = false;  // by the stop rule, by a signal
+  bool stopped_by_caller_ = false;              // RunOptions::on_step returned false
   bool prepared_ = true;  // the method found its starting state (ContinuationMethod::prepare)
   std::string prepare_failure_;
   std::exception_ptr error_;  // the exception that ended march(), if one did
@@ -213,12 +214,14 @@ bool Run::on_step(const solve::StepReport& r) {
   if (out_ && (r.t >= t_last || stopped_ || out_->vtk_due(r.step))) out_->write_vtk(m_, r);
   last_step_ = r.step;
   last_t_ = r.t;
+  if (!stopped_ && options_.on_step && !options_.on_step(r, q_, m_)) stopped_by_caller_ = true;
   const int every = c_.output.checkpoint_every;
-  // A signal received by now (while the step was solved or its output written) ends the run here.
+  // A signal received by now (while the step was solved, its output written or the caller's hook ran) ends
+  // the run here.
   interrupted_ = InterruptHandlers::received() != 0;
   if ((every > 0 && r.step % every == 0) || interrupted_) write_checkpoint(r.step, r.t);
   progress_.update(r.step, r.t, r.iterations, r.residual_norm);
-  return !stopped_ && !interrupted_;
+  return !stopped_ && !interrupted_ && !stopped_by_caller_;
 }
 
 void Run::march(RunSummary& summary) {
@@ -258,6 +261,10 @@ void Run::march(RunSummary& summary) {
   if (summary.result.completed() && !summary.interrupted_by && has_checkpoint)
     write_checkpoint(last_step_, last_t_, true);
   if (stopped_) summary.result.message = stop_rule_.message();
+  if (stopped_by_caller_)
+    summary.result.message = "stopped by the step callback after step " + std::to_string(last_step_) + " (t = " +
+                             format_number(last_t_) + ")";
+  summary.q = q_;
   if (summary.interrupted_by) {
     summary.result.message = std::string("interrupted at t = ") + format_number(last_t_) + " by " +
                              signal_name(summary.interrupted_by) + " after step " + std::to_string(last_step_);

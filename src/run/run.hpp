@@ -20,6 +20,10 @@ struct RunOptions {
   // The linear solver instead of the case's `solver` (a distributed run's, src/parallel), given whether
   // the model promises symmetric tangents. Empty: the case's.
   std::function<std::unique_ptr<solve::LinearSolver>(bool symmetric)> make_solver;
+  // Called after every converged step, once its output is written and before its checkpoint, with the step,
+  // its free unknowns and the model evaluated there (the Python module's step callback). Returning false
+  // ends the run after this step: outcome `stopped`, "stopped by the step callback". Empty: none.
+  std::function<bool(const solve::StepReport&, const Eigen::VectorXd& q, const model::Model&)> on_step;
 };
 
 struct RunSummary {
@@ -27,6 +31,7 @@ struct RunSummary {
   double wall_seconds = 0.0;
   std::string directory;
   int interrupted_by = 0;  // SIGINT or SIGTERM if a signal ended the run (result.outcome: interrupted)
+  Eigen::VectorXd q;       // the free unknowns of the last converged state (or the initial state)
 };
 
 // Runs the case into the output directory (a new run clears an earlier run's files there; a restart
