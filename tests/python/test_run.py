@@ -2,6 +2,8 @@
 import json
 import os
 import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -84,3 +86,23 @@ def test_run_arguments_are_checked(peeling, tmp_path):
         fibrane.run(peeling, callback=3)
     result = fibrane.run(peeling, output=tmp_path / "short", max_steps=1)
     assert result.outcome == "max_steps" and result.steps == 1
+
+
+def test_the_gil_is_released_while_the_run_computes(peeling):
+    ticks, done = [], threading.Event()
+
+    def count():
+        while not done.is_set():
+            ticks.append(time.perf_counter())
+            time.sleep(0.002)
+
+    counter = threading.Thread(target=count)
+    counter.start()
+    start = time.perf_counter()
+    result = fibrane.run(peeling)
+    end = time.perf_counter()
+    done.set()
+    counter.join()
+    during = [t for t in ticks if start < t < end]
+    # Another Python thread ran throughout the run: at least a tick per 20 ms of it.
+    assert result.steps > 0 and len(during) > (end - start) / 0.02
