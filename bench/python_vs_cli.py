@@ -15,6 +15,7 @@ the module, whose libraries are not position-independent).
 import argparse
 import os
 import pathlib
+import resource
 import statistics
 import subprocess
 import sys
@@ -31,6 +32,16 @@ result = fibrane.run(case, output=sys.argv[2], threads=int(sys.argv[3]))
 done = time.perf_counter()
 print(done - imported, imported - start, result.steps)
 """
+
+
+def timed(command, **kwargs):
+    """Runs a command; returns its result, wall time and CPU time (user + system, with its threads)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run(command, check=True, **kwargs)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return done, wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def history(directory):
@@ -58,33 +69,41 @@ def main():
         case.write_text(text)
     threads = ["--threads", str(a.threads)] if a.threads else []
     times = {"cli": [], "module": [], "other": []}
+    cpu = {"cli": [], "module": [], "other": []}
     for i in range(a.repeat):
         if a.other_cli:
-            start = time.perf_counter()
-            subprocess.run([a.other_cli, "run", str(case), "-o", str(work / f"other_{i}"), "--quiet", *threads],
-                           check=True)
-            times["other"].append(time.perf_counter() - start)
-            print(f"run {i}: other CLI {times['other'][-1]:.2f} s", flush=True)
+            _, wall, used = timed([a.other_cli, "run", str(case), "-o", str(work / f"other_{i}"), "--quiet", *threads],
+                                  stdout=subprocess.DEVNULL)
+            times["other"].append(wall)
+            cpu["other"].append(used)
+            print(f"run {i}: other CLI {wall:.2f} s ({used:.2f} s CPU)", flush=True)
         out = work / f"cli_{i}"
-        start = time.perf_counter()
-        subprocess.run([a.fibrane, "run", str(case), "-o", str(out), "--quiet", *threads], check=True)
-        times["cli"].append(time.perf_counter() - start)
+        _, wall, used = timed([a.fibrane, "run", str(case), "-o", str(out), "--quiet", *threads], stdout=subprocess.DEVNULL)
+        times["cli"].append(wall)
+        cpu["cli"].append(used)
         out_py = work / f"module_{i}"
-        line = subprocess.run([sys.executable, "-c", MODULE_RUN, str(case), str(out_py), str(a.threads)], check=True,
-                              capture_output=True, text=True).stdout.split()
+        done, _, used = timed([sys.executable, "-c", MODULE_RUN, str(case), str(out_py), str(a.threads)],
+                              capture_output=True, text=True)
+        line = done.stdout.split()
         times["module"].append(float(line[0]))
+        cpu["module"].append(used)
         (names, cli_rows), (names_py, py_rows) = history(out), history(out_py)
         assert names == names_py and len(cli_rows) == len(py_rows), "the histories differ in shape"
         diff = max(abs(x - y) for r, s in zip(cli_rows, py_rows) for x, y in zip(r, s) if x == x or y == y)
-        print(f"run {i}: CLI {times['cli'][-1]:.2f} s, module {times['module'][-1]:.2f} s (+ {float(line[1]):.2f} s "
-              f"start-up and import), {line[2]} steps, history rows {len(cli_rows)}, largest difference {diff:g}",
-              flush=True)
+        print(f"run {i}: CLI {times['cli'][-1]:.2f} s ({cpu['cli'][-1]:.2f} s CPU), module {times['module'][-1]:.2f} s "
+              f"(+ {float(line[1]):.2f} s start-up and import; the process {cpu['module'][-1]:.2f} s CPU), {line[2]} "
+              f"steps, history rows {len(cli_rows)}, largest difference {diff:g}", flush=True)
+    print(f"median CPU: CLI {statistics.median(cpu['cli']):.2f} s, module process "
+          f"{statistics.median(cpu['module']):.2f} s; module / CLI = "
+          f"{statistics.median(cpu['module']) / statistics.median(cpu['cli']):.3f}")
     cli, module = statistics.median(times["cli"]), statistics.median(times["module"])
     print(f"median: CLI {cli:.2f} s, module {module:.2f} s; module / CLI = {module / cli:.3f} "
           f"(min: {min(times['module']) / min(times['cli']):.3f})")
     if times["other"]:
         other = statistics.median(times["other"])
-        print(f"median: other CLI {other:.2f} s; CLI / other CLI = {cli / other:.3f}")
+        print(f"median: other CLI {other:.2f} s; CLI / other CLI = {cli / other:.3f}; CPU "
+              f"{statistics.median(cpu['other']):.2f} s, CLI / other CLI = "
+              f"{statistics.median(cpu['cli']) / statistics.median(cpu['other']):.3f}")
 
 
 if __name__ == "__main__":

@@ -26,11 +26,12 @@ void bind_run(py::module_& m);
 void bind_results(py::module_& m);
 void bind_laws(py::module_& m);
 
-// The body of the model by name: its DOF block, control-point count and whether it is a shell.
+// A body of the model: the shell or the beam of that name (the other pointer is null).
 struct BodyRef {
   const model::ShellBody* shell = nullptr;
   const model::BeamBody* beam = nullptr;
 };
+// KeyError (listing the bodies) if the model has no body of that name.
 BodyRef find_body(const model::Model& m, const std::string& name);
 
 // The control-point displacements of a body in the displacement vector u: rows of (x, y, z) for a shell,

@@ -4,6 +4,8 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <omp.h>
+
 #include <algorithm>
 #include <optional>
 
@@ -97,6 +99,7 @@ void bind_run(py::module_& m) {
       .def_property_readonly("unknowns", &StepState::unknowns, "the free unknowns (a copy), shape (free_dofs,)")
       .def("displacements", &StepState::displacements, py::arg("body"),
            "Control-point displacements of a body: shape (n, 3) for a shell, (n, 4) (x, y, z, twist) for a beam.");
+  m.def("max_threads", &omp_get_max_threads, "OpenMP's thread count for the next parallel region.");
   m.def("run", &run_text, py::arg("text"), py::arg("source"), py::arg("name"), py::arg("output"), py::arg("threads"),
         py::arg("restart"), py::arg("quiet"), py::arg("newton_log"), py::arg("max_steps"), py::arg("callback"),
         "Reads the case text and runs it into the output directory with the CLI's run driver.");

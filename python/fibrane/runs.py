@@ -17,7 +17,7 @@ def run(case, output=None, threads=0, restart=False, callback=None, quiet=True, 
     case        a fibrane.Case, a dict of case keys, or a case file's path
     output      the output directory (an earlier run's files there are replaced, as with -o); None: a
                 temporary directory, removed when the Result is
-    threads     threads of the assembly and the solvers (0: all cores, as the CLI)
+    threads     threads of the assembly and the solvers (0: all cores, or OMP_NUM_THREADS if set, as the CLI)
     restart     continue the run in `output` from its last checkpoint (as --restart OUTPUT); the case's
                 text must be the one that run started with
     callback    called after every converged step, once its output is written, as
@@ -50,6 +50,8 @@ def run(case, output=None, threads=0, restart=False, callback=None, quiet=True, 
         directory = os.path.join(temporary.name, "out")
     else:
         directory = os.fspath(output)
+    if not threads:  # the CLI's default, also after an earlier run of this process with other threads
+        threads = _default_threads()
     text, source = case._current()
     state = _core.run(text, source, case.name, directory, int(threads), bool(restart), bool(quiet),
                       bool(newton_log), int(max_steps or 0), callback)
@@ -59,3 +61,10 @@ def run(case, output=None, threads=0, restart=False, callback=None, quiet=True, 
     if state.interrupted_by == signal.SIGTERM:
         raise SystemExit(143)
     return result
+
+
+def _default_threads():
+    try:
+        return max(1, int(os.environ.get("OMP_NUM_THREADS", "").split(",")[0]))
+    except ValueError:
+        return os.cpu_count() or 1

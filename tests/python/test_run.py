@@ -106,3 +106,11 @@ def test_the_gil_is_released_while_the_run_computes(peeling):
     during = [t for t in ticks if start < t < end]
     # Another Python thread ran throughout the run: at least a tick per 20 ms of it.
     assert result.steps > 0 and len(during) > (end - start) / 0.02
+
+
+def test_threads_zero_is_all_cores_after_another_count(peeling):
+    fibrane.run(peeling, threads=1, max_steps=1)
+    assert fibrane._core.max_threads() == 1
+    fibrane.run(peeling, max_steps=1)
+    expected = int(os.environ["OMP_NUM_THREADS"]) if "OMP_NUM_THREADS" in os.environ else os.cpu_count()
+    assert fibrane._core.max_threads() == expected
