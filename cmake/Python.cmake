@@ -2,6 +2,12 @@
 # installed by scripts/install-deps. Without them the module is left out with a message, and the rest of
 # the build is unchanged. The interpreter is /usr/bin/python3 (Debian's, with numpy and pytest) unless
 # Python_EXECUTABLE names another: an interpreter first on PATH (pyenv, a virtual environment) may lack them.
+# Sanitizer builds leave it out too: an extension built with AddressSanitizer cannot load into an
+# interpreter that is not (the ASan runtime must come first in the process).
+if(FIBRANE_PYTHON AND FIBRANE_SANITIZE)
+  message(STATUS "fibrane: the Python module is NOT built with FIBRANE_SANITIZE (the interpreter is not instrumented)")
+  set(FIBRANE_PYTHON OFF)
+endif()
 if(FIBRANE_PYTHON)
   if(NOT DEFINED Python_EXECUTABLE AND EXISTS /usr/bin/python3)
     set(Python_EXECUTABLE /usr/bin/python3)
