@@ -1,5 +1,6 @@
-// The final state of a run as arrays: the bodies' control-point displacements and the deformed geometry
-// at parametric points, from the model evaluated at the last converged state (run_bindings.cpp).
+// The final state of a run as arrays: the bodies' control-point displacements, the deformed geometry and
+// the shells' section forces at parametric points, from the model evaluated at the last converged state
+// (run_bindings.cpp).
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
@@ -84,6 +85,39 @@ py::array_t<double> geometry(const RunState& s, const std::string& name, const p
   return out;
 }
 
+// The section forces and moments of a shell at parametric points (n, 2) of (u, v), as the sampled VTK
+// output gives them (11, 22, 12 each): per current length in the frame e1 = g1/|g1|, e2 = n x e1
+// (N_local, M_local) and the contravariant components N^ab, M^ab (N, M).
+py::dict section_forces(const RunState& s, const std::string& name, const py::array_t<double>& params) {
+  const model::Model& m = *s.c.model;
+  const BodyRef b = find_body(m, name);
+  if (!b.shell)
+    throw py::value_error("section_forces: '" + name + "' is a beam; beams' section forces (N, M) are in the sampled "
+                          "VTK output");
+  const auto p = params.unchecked();
+  if (p.ndim() != 2 || p.shape(1) != 2) throw py::value_error("a shell's parametric points: an array of shape (n, 2)");
+  const model::ShellBody& shell = *b.shell;
+  const char* names[] = {"N_local", "M_local", "N", "M"};
+  std::vector<py::array_t<double>> out;
+  for (int k = 0; k < 4; ++k) out.emplace_back(std::vector<py::ssize_t>{p.shape(0), 3});
+  for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+    check_range(p(i, 0), shell.surface.knots(0), "u");
+    check_range(p(i, 1), shell.surface.knots(1), "v");
+    const auto basis = shell.surface.basis(p(i, 0), p(i, 1));
+    const auto f = shell::section_forces(shell.section, basis.R, shell.reference(basis.indices),
+                                         shell.current(basis.indices, m.displacement(), m.dofs));
+    const Eigen::Matrix2d* values[] = {&f.N_local, &f.M_local, &f.N, &f.M};
+    for (int k = 0; k < 4; ++k) {
+      out[k].mutable_at(i, 0) = (*values[k])(0, 0);
+      out[k].mutable_at(i, 1) = (*values[k])(1, 1);
+      out[k].mutable_at(i, 2) = (*values[k])(0, 1);
+    }
+  }
+  py::dict d;
+  for (int k = 0; k < 4; ++k) d[names[k]] = out[k];
+  return d;
+}
+
 }  // namespace
 
 void bind_results(py::module_& m) {
@@ -106,7 +140,8 @@ void bind_results(py::module_& m) {
         return body_displacements(*s.c.model, body, s.c.model->displacement());
       })
       .def("unknowns", [](const RunState& s) { return py::array_t<double>(s.summary.q.size(), s.summary.q.data()); })
-      .def("geometry", &geometry, py::arg("body"), py::arg("params"), py::arg("deformed") = true);
+      .def("geometry", &geometry, py::arg("body"), py::arg("params"), py::arg("deformed") = true)
+      .def("section_forces", &section_forces, py::arg("body"), py::arg("params"));
 }
 
 }  // namespace fibrane::python

@@ -71,6 +71,16 @@ class Result:
             params = params.reshape(1, 2)
         return self._state.geometry(body, params, deformed)
 
+    def section_forces(self, body, params):
+        """A shell's section forces and moments of the final state at parametric points (n, 2) of (u, v), as the
+        sampled VTK output gives them: a dict of arrays of shape (n, 3) with the components (11, 22, 12) of
+        "N_local", "M_local" (per current length in the frame e1 = g1/|g1|, e2 = n x e1) and of the
+        contravariant "N", "M" (N^ab, M^ab)."""
+        params = np.asarray(params, dtype=float)
+        if params.ndim == 1 and params.shape[0] == 2:
+            params = params.reshape(1, 2)
+        return self._state.section_forces(body, params)
+
     def interaction_steps(self, name):
         """The steps for which the interaction `name` has per-point data (interaction/<name>_<step>.csv)."""
         files = glob.glob(os.path.join(glob.escape(self.directory), "interaction", glob.escape(name) + "_*.csv"))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import fibrane
-from conftest import coarse_peeling_text
+from conftest import ROOT, coarse_peeling_text
 
 Z0 = 0.78216128295028686
 
@@ -101,3 +101,20 @@ def test_study_matches_the_cli(fibrane_bin, tmp_path):
         assert np.array_equal(table[column], cli[column]), column
     with pytest.raises(fibrane.InputError, match="fig6"):
         fibrane.study("fig99")
+
+
+def test_shell_section_forces_carry_the_end_moment():
+    # Roll-up strip (examples/rollup-strip.yaml): a cantilever under an end moment per width m t carries the
+    # bending moment m t along its whole length.
+    case = fibrane.Case.from_yaml(ROOT / "examples" / "rollup-strip.yaml")
+    case["steps"]["t_end"] = 0.2
+    result = fibrane.run(case)
+    moment = -case["loads"][0]["moment"][1] * result.t_reached
+    uv = np.array([[0.1, 0.5], [0.5, 0.5], [0.9, 0.2]])
+    forces = result.section_forces("strip", uv)
+    assert set(forces) == {"N_local", "M_local", "N", "M"}
+    assert all(v.shape == (3, 3) for v in forces.values())
+    np.testing.assert_allclose(forces["M_local"][:, 0], moment, rtol=2e-3)
+    np.testing.assert_allclose(forces["M_local"][:, 1:], 0, atol=1e-9 * moment)
+    with pytest.raises(ValueError, match="beam"):
+        fibrane.run(fibrane.Case.from_yaml(coarse_peeling_text(max_steps=1))).section_forces("fiber", [[0.5, 0.5]])
