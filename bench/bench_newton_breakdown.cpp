@@ -18,6 +18,7 @@
 
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
+#include "model/coupling.hpp"
 #include "run/run.hpp"
 #include "linalg/linear_solver.hpp"
 
@@ -160,7 +161,8 @@ int main(int argc, char** argv) {
   fmt::print("| factor non-zeros (first / last factorisation) | {} / {} |\n", solver.first_factor_nnz,
              solver.factor_nonzeros());
   std::string soft;
-  for (const auto& cp : m.couplings) soft += fmt::format("{}{}: {}", soft.empty() ? "" : ", ", cp.name(), cp.soft_points());
+  for (const auto* cp : m.interactions_of<fibrane::model::Coupling>())
+    soft += fmt::format("{}{}: {}", soft.empty() ? "" : ", ", cp->name(), cp->soft_points());
   fmt::print("| soft-minimum points at the end | {} |\n", soft.empty() ? "-" : soft);
   fmt::print("| steps / evaluations with tangent / updates per step | {} / {} / {:.2f} |\n", iterations.size(), pt.tangents,
              mean_iterations);

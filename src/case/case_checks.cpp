@@ -46,10 +46,11 @@ void check_output_names(const model::Model& m, const io::YamlNode& root) {
     claim(bodies[k], owner, at ? *at : root);
     claim(bodies[k] + "_sampled", owner, at ? *at : root);
   }
-  for (std::size_t i = 0; i < m.couplings.size(); ++i) {
+  for (std::size_t i = 0; i < m.interactions().size(); ++i) {
     const auto entry = root["interactions"].at(i);
-    claim(m.couplings[i].name(), "interaction '" + m.couplings[i].name() + "'",
-          entry.has("name") ? entry["name"] : entry);
+    const std::string owner = "interaction '" + m.interactions()[i]->name() + "'";
+    for (const auto& series : m.interactions()[i]->point_series())
+      claim(series.name, owner, entry.has("name") ? entry["name"] : entry);
   }
 }
 
@@ -68,8 +69,8 @@ void check_monitor_names(const model::Model& m, const io::YamlNode& root) {
     read_safe_name(node);
     if (builtin.count(m.monitors[i]->name()))
       node.fail("a monitor name other than the built-in history columns (step, t, load_factor, iterations, "
-                "residual, negative_eigenvalues, limit_point, strain_energy, <interaction>_energy, "
-                "<interaction>_force_x/y/z, <interaction>_lost_points, and the energy account of dynamic runs)");
+                "residual, negative_eigenvalues, limit_point, strain_energy, the interactions' <interaction>_<quantity> "
+                "(SBS: _energy, _force_x/y/z, _lost_points), and the energy account of dynamic runs)");
     if (!seen.insert(m.monitors[i]->name()).second) node.fail("a monitor name not used before");
   }
 }
@@ -140,7 +141,7 @@ void check_free_bodies(const model::Model& m, const io::YamlNode& root) {
   for (int b = 0; b < m.dofs.num_blocks(); ++b) {
     const std::string& name = m.dofs.block_name(b);
     bool interacts = false;
-    for (const auto& c : m.couplings) interacts |= c.beam().name() == name || c.shell().name() == name;
+    for (const auto& i : m.interactions()) interacts |= i->bodies().first == name || i->bodies().second == name;
     if (interacts) continue;
     std::string free;
     for (int c = 0; c < 3; ++c) {

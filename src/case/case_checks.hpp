@@ -19,14 +19,15 @@ struct ConstraintOrigins {
   std::vector<io::YamlNode> entries;
 };
 
-// Bodies (shells then beams) and interactions write files named after them: <name>.pvd, <name>_sampled.pvd,
-// vtk/<name>_<step>.vtu, interaction/<name>_<step>.csv. InputError at the later name where two collide.
+// Bodies (shells then beams) and the interactions' point series write files named after them: <name>.pvd,
+// <name>_sampled.pvd, vtk/<name>_<step>.vtu, interaction/<name>_<step>.csv. InputError at the later name
+// where two collide.
 void check_output_names(const model::Model& m, const io::YamlNode& root);
 
 // Monitors become history.csv columns: InputError at a monitor whose name is unsafe (case_limits.hpp) or
 // equals a built-in column (step, t, load_factor, iterations, residual, negative_eigenvalues, limit_point,
-// strain_energy, <interaction>_energy, <interaction>_force_x/y/z, <interaction>_lost_points, the energy
-// account of dynamic runs) or another monitor.
+// strain_energy, the interactions' <interaction>_<quantity>, the energy account of dynamic runs) or another
+// monitor.
 void check_monitor_names(const model::Model& m, const io::YamlNode& root);
 
 // "body 'plate' control point [2, 0] component z" for a global DOF of the model.

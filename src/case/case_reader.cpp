@@ -16,7 +16,7 @@
 #include "case/case_checks.hpp"
 #include "case/case_conditions.hpp"
 #include "case/case_geometry.hpp"
-#include "case/case_laws.hpp"
+#include "case/case_interactions.hpp"
 #include "case/case_limits.hpp"
 #include "case/case_methods.hpp"
 #include "case/case_output.hpp"
@@ -159,51 +159,6 @@ void read_beam(Model& m, const io::YamlNode& node) {
   node.reject_unknown_keys();
   m.add_beam(std::move(body));
   check_fits(model_size(m), node["geometry"]);
-}
-
-void read_interaction(Model& m, const io::YamlNode& node) {
-  const auto beam_node = node["beam"], shell_node = node["shell"];
-  const BeamBody* b = nullptr;
-  const ShellBody* shell = nullptr;
-  for (const auto& x : m.beams)
-    if (x.name() == beam_node.as_string()) b = &x;
-  for (const auto& x : m.shells)
-    if (x.name() == shell_node.as_string()) shell = &x;
-  if (!b) beam_node.fail("the name of a beam defined in this case");
-  if (!shell) shell_node.fail("the name of a shell defined in this case");
-  if (b->section_radius <= 0.0)
-    beam_node.fail_message("beam '" + b->name() + "' needs a circular section (section: {circle: {radius: R}}): the "
-                           "disk-plate law integrates over a disk");
-  const std::string name = node.has("name") ? read_safe_name(node["name"]) : b->name() + "_" + shell->name();
-  const std::string f = node.get("formulation", std::string("RF2"));
-  if (auto fn = node.optional("formulation")) fn->as_choice({"FF", "RF1", "RF2"});
-  const auto formulation = f == "FF" ? interaction::Formulation::FF
-                           : f == "RF1" ? interaction::Formulation::RF1 : interaction::Formulation::RF2;
-  auto ff_tangent = interaction::FfTangent::exact;
-  if (auto t = node.optional("ff_tangent")) {
-    if (formulation != interaction::Formulation::FF)
-      t->fail_message("ff_tangent chooses the tangent of the FF formulation only; this interaction uses " + f);
-    ff_tangent = t->as_choice({"exact", "rf1"}) == "rf1" ? interaction::FfTangent::rf1 : interaction::FfTangent::exact;
-  }
-  auto law = read_interaction_law(node, {b->section_radius, shell->section.thickness});
-  double soft_width = 0, soft_below = 0;
-  if (auto soft = node.optional("soft_minimum")) {
-    if (formulation != interaction::Formulation::RF2)
-      soft->fail_message("the soft minimum is implemented for the RF2 formulation only");
-    soft_width = (*soft)["width"].in_range(0.0, 5e-3, true, false);
-    soft_below = soft->has("below") ? (*soft)["below"].positive() : 0.05;
-    soft->reject_unknown_keys();
-    try {
-      law->equilibrium_distance(1.0);
-    } catch (const std::runtime_error& e) {
-      soft->fail_message(std::string("the soft minimum's width is relative to the law's equilibrium distance: ") + e.what());
-    }
-  }
-  node.reject_unknown_keys();
-  for (const auto& c : m.couplings)
-    if (c.name() == name) node["name"].fail("an interaction name not used before");
-  m.couplings.emplace_back(name, std::move(law), formulation, ff_tangent, *b, *shell);
-  if (soft_width > 0) m.couplings.back().enable_soft_minimum(soft_width, soft_below);
 }
 
 template <class F>

@@ -1,7 +1,8 @@
 #pragma once
 // The SBS coupling of one beam and one shell (Sec. 5): at every beam quadrature point the closest point
 // on the current shell is found, and the point kernel of src/interaction adds the disk-surrogate plate
-// potential (Eq. 5) to the pair (beam element, shell element) that holds the two points.
+// potential (Eq. 5) to the pair (beam element, shell element) that holds the two points. It is an
+// Interaction (model/interaction.hpp): its observables are written in coupling_output.cpp.
 #include <Eigen/Dense>
 #include <memory>
 #include <optional>
@@ -12,7 +13,7 @@
 #include "interaction/sbs_point.hpp"
 #include "interaction/soft_distance.hpp"
 #include "laws/interaction_law.hpp"
-#include "model/contribution.hpp"
+#include "model/interaction.hpp"
 #include "linalg/forward.hpp"
 
 namespace fibrane::model {
@@ -35,7 +36,7 @@ struct CouplingPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero(), force = Eigen::Vector3d::Zero();  // force per length the shell exerts on the beam
 };
 
-class Coupling final : public Contribution {
+class Coupling final : public Interaction {
  public:
   Coupling(std::string name, std::shared_ptr<const laws::InteractionLaw> law, interaction::Formulation f,
            interaction::FfTangent ff_tangent, const BeamBody& b, const ShellBody& s);
@@ -50,7 +51,6 @@ class Coupling final : public Contribution {
   // DOF lists (beam element DOFs followed by shell element DOFs), then the soft element if any.
   // evaluate(): every pair's residual (and tangent); a point inside the plate makes the status invalid.
   std::string name() const override { return name_; }
-  EnergyKind energy_kind() const override { return EnergyKind::interaction; }
   bool variable() const override { return true; }
   bool update(const State& s) override;
   std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
@@ -87,6 +87,23 @@ class Coupling final : public Contribution {
   int quadrature_points() const { return static_cast<int>(quad_.size()); }
   double energy() const { return energy_; }
   Eigen::Vector3d total_force() const;  // integral of the force per length over the beam
+
+  // Interaction (coupling_output.cpp). Quantities: energy, force_x/y/z (total_force) and lost_points.
+  // One point series named like the coupling, on the beam: a VTK point cloud of the interacting points
+  // (xi, s, distance, cos_alpha, force, force_magnitude, soft_minimum) and a table of every quadrature
+  // point (xi, s, active, status, distance, cos_alpha, force_x/y/z, force_magnitude, energy_density,
+  // soft_minimum; lost points read nan as distance and cos_alpha, soft points nan as cos_alpha). The run
+  // record reports the final energy, force and lost points and the first step with the most lost points,
+  // and warns at the first step with lost points; the summary section soft_minimum_points counts the
+  // soft points, if any.
+  std::pair<std::string, std::string> bodies() const override;
+  std::vector<std::string> quantity_names() const override;
+  double quantity(std::size_t k) const override;
+  std::vector<PointSeries> point_series() const override;
+  PointCloud point_cloud(std::size_t series) const override;
+  PointTable point_table(std::size_t series) const override;
+  std::unique_ptr<RunRecord> run_record() const override;
+  std::vector<SummaryField> summary_sections() const override;
 
  private:
   struct QuadPoint { int element; double xi, weight, s; };

@@ -66,6 +66,11 @@ BeamBody& Model::add_beam(BeamBody body) {
   return beams.emplace_back(std::move(body));
 }
 
+Interaction& Model::add_interaction(std::unique_ptr<Interaction> i) {
+  if (finalized_) throw std::logic_error("Model::add_interaction after finalize");
+  return *interactions_.emplace_back(std::move(i));
+}
+
 Contribution& Model::add_contribution(std::unique_ptr<Contribution> c) {
   if (finalized_) throw std::logic_error("Model::add_contribution after finalize");
   return *extra_.emplace_back(std::move(c));
@@ -77,12 +82,12 @@ solve::CurveEval Model::curve_eval() const {
 
 void Model::finalize() {
   constraints.finalize(dofs.size());
-  // Evaluation order: bodies, couplings, moments, loads, then the others; element ids: the fixed
+  // Evaluation order: bodies, interactions, moments, loads, then the others; element ids: the fixed
   // contributions' elements first, then the variable ones (set_variable_elements).
   entries_.clear();
   for (auto& s : shells) entries_.push_back({&s, 0, &PhaseTimes::shell});
   for (auto& b : beams) entries_.push_back({&b, 0, &PhaseTimes::beam});
-  for (auto& c : couplings) entries_.push_back({&c, 0, &PhaseTimes::interaction});
+  for (auto& i : interactions_) entries_.push_back({i.get(), 0, &PhaseTimes::interaction});
   for (auto& m : moments) entries_.push_back({&m, 0, &PhaseTimes::other});
   for (auto& e : edge_moments) entries_.push_back({&e, 0, &PhaseTimes::other});
   entries_.push_back({&nodal_loads, 0, &PhaseTimes::other});

@@ -1,5 +1,5 @@
 #pragma once
-// The discrete model: DOF blocks, constraints, load functions and the contributions (bodies, couplings,
+// The discrete model: DOF blocks, constraints, load functions and the contributions (bodies, interactions,
 // loads) whose sum is the weak form Eq. (7). It is the NonlinearSystem that Newton and the continuation
 // methods of src/solve drive: given the free unknowns q and the load parameter t it assembles the reduced
 // residual, tangent and load derivative in one loop over its contributions.
@@ -14,8 +14,8 @@
 
 #include "model/beam_body.hpp"
 #include "model/contribution.hpp"
-#include "model/coupling.hpp"
 #include "model/inertia.hpp"
+#include "model/interaction.hpp"
 #include "model/load_function.hpp"
 #include "model/loads.hpp"
 #include "model/monitor.hpp"
@@ -44,7 +44,6 @@ class Model : public solve::TransientSystem {
   // The contributions by kind, in the order they are evaluated (deques: their addresses stay valid).
   std::deque<ShellBody> shells;
   std::deque<BeamBody> beams;
-  std::deque<Coupling> couplings;
   std::deque<PointMoment> moments;
   std::deque<EdgeMoment> edge_moments;
   NodalLoads nodal_loads;
@@ -58,6 +57,17 @@ class Model : public solve::TransientSystem {
   // Bodies get their DOF block here: 3 per shell control point, 4 (x, y, z, twist) per beam control point.
   ShellBody& add_shell(ShellBody body);
   BeamBody& add_beam(BeamBody body);
+  // Interactions between bodies (model/interaction.hpp), evaluated after the beams in the order added.
+  Interaction& add_interaction(std::unique_ptr<Interaction> i);
+  const std::vector<std::unique_ptr<Interaction>>& interactions() const { return interactions_; }
+  // The interactions of type T, in order (a kind's own tools and tests).
+  template <class T>
+  std::vector<const T*> interactions_of() const {
+    std::vector<const T*> out;
+    for (const auto& i : interactions_)
+      if (const auto* t = dynamic_cast<const T*>(i.get())) out.push_back(t);
+    return out;
+  }
   // Any other contribution (evaluated after the built-in kinds, in the order added).
   Contribution& add_contribution(std::unique_ptr<Contribution> c);
   // Call once after bodies, constraints and loads are in place.
@@ -142,6 +152,7 @@ class Model : public solve::TransientSystem {
   void evaluate_non_finite(bool with_tangent);
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
+  std::vector<std::unique_ptr<Interaction>> interactions_;
   std::vector<std::unique_ptr<Contribution>> extra_;
   solve::SparseAssembler assembler_;
   std::vector<int> constrained_dofs_;

@@ -1,8 +1,8 @@
 #pragma once
 // The named scalar quantities a model reports after every step (history.csv columns after the step data,
-// summary.json, stop rules): the strain energy, per interaction its energy, the components of its total
-// force on the beam and its lost points (model/coupling.hpp: beam points without a closest point on the
-// patch), then the monitors.
+// summary.json, stop rules): the strain energy, per interaction its quantities as <name>_<quantity>
+// (model/interaction.hpp; the SBS coupling's are its energy, the components of its total force on the
+// beam and its lost points), then the monitors.
 #include <functional>
 #include <string>
 #include <vector>

@@ -12,7 +12,6 @@
 namespace fibrane::output {
 
 using model::BeamBody;
-using model::Coupling;
 using model::Model;
 using model::ShellBody;
 
@@ -97,24 +96,13 @@ io::VtuMesh beam_vtu(const Model& m, const BeamBody& b, int samples) {
   return mesh;
 }
 
-io::VtuMesh coupling_vtu(const Coupling& c) {
+io::VtuMesh point_cloud_vtu(const model::PointCloud& cloud) {
   io::VtuMesh mesh;
-  io::VtuMesh::Field xi{"xi", 1, {}}, s{"s", 1, {}}, d{"distance", 1, {}}, cos{"cos_alpha", 1, {}},
-      f{"force", 3, {}}, fm{"force_magnitude", 1, {}}, soft{"soft_minimum", 1, {}};
-  for (const auto& p : c.points()) {
-    if (!p.active) continue;
+  for (const auto& x : cloud.positions) {
     mesh.add_cell(io::vtk_cell::vertex, {static_cast<int>(mesh.points.size())});
-    mesh.points.push_back(p.position);
-    xi.values.push_back(p.xi);
-    s.values.push_back(p.s);
-    d.values.push_back(p.distance);
-    cos.values.push_back(p.cos_alpha);
-    push3(f.values, p.force);
-    fm.values.push_back(p.force.norm());
-    soft.values.push_back(p.soft ? 1 : 0);
+    mesh.points.push_back(x);
   }
-  mesh.point_data = {std::move(xi), std::move(s), std::move(d), std::move(cos), std::move(f), std::move(fm),
-                     std::move(soft)};
+  for (const auto& f : cloud.fields) mesh.point_data.push_back({f.name, f.components, f.values});
   return mesh;
 }
 

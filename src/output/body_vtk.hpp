@@ -16,8 +16,8 @@ io::VtuMesh beam_vtu(const model::Model& m, const model::BeamBody& b, int sample
 // beams, the twist) as control-point fields, which VTK interpolates exactly as the splines do.
 io::VtuMesh shell_bezier_vtu(const model::Model& m, const model::ShellBody& s);
 io::VtuMesh beam_bezier_vtu(const model::Model& m, const model::BeamBody& b);
-// The beam quadrature points of an interaction with distance, cos(alpha) and the force per length.
-io::VtuMesh coupling_vtu(const model::Coupling& c);
+// An interaction's point data (model/interaction.hpp): one vertex cell per point, its fields as point data.
+io::VtuMesh point_cloud_vtu(const model::PointCloud& cloud);
 
 // The .pvd timestep of a step. ParaView orders a series by timestep, so it must grow along the run: t, or
 // with `by_path_length` (arc-length runs, whose t turns back at limit points) the path length.

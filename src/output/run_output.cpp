@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
+#include <variant>
 
+#include "case/case_interactions.hpp"
 #include "case/case_methods.hpp"
 #include "common/error.hpp"
 #include "io/atomic_file.hpp"
@@ -33,12 +36,13 @@ std::vector<std::string> output_names(const model::Model& m) {
   std::vector<std::string> names;
   for (const auto& s : m.shells) names.push_back(s.name());
   for (const auto& b : m.beams) names.push_back(b.name());
-  for (const auto& k : m.couplings) names.push_back(k.name());
+  for (const auto& i : m.interactions())
+    for (const auto& p : i->point_series()) names.push_back(p.name);
   return names;
 }
 
 // The VTK series of a case, in the order write_vtk() writes them: per body its Bezier and/or sampled
-// series, then the interactions' points.
+// series, then the interactions' point series.
 std::vector<std::string> vtk_series_names(const casefile::Case& c) {
   std::vector<std::string> names;
   const std::string sampled = c.output.bezier ? "_sampled" : "";
@@ -48,7 +52,8 @@ std::vector<std::string> vtk_series_names(const casefile::Case& c) {
   };
   for (const auto& s : c.model->shells) body(s.name());
   for (const auto& b : c.model->beams) body(b.name());
-  for (const auto& k : c.model->couplings) names.push_back(k.name());
+  for (const auto& i : c.model->interactions())
+    for (const auto& p : i->point_series()) names.push_back(p.name);
   return names;
 }
 
@@ -125,7 +130,10 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
   }
   manifest_ = std::make_unique<Manifest>(dir_, listed);
   fs::create_directories(fs::path(dir_) / "vtk");
-  if (!c.model->couplings.empty()) fs::create_directories(fs::path(dir_) / "interaction");
+  bool tables = false;
+  for (const auto& i : c.model->interactions())
+    for (const auto& p : i->point_series()) tables |= p.table;
+  if (tables) fs::create_directories(fs::path(dir_) / "interaction");
   if (resume) {
     std::error_code ec;
     fs::remove(fs::path(dir_) / "summary.json", ec);
@@ -138,6 +146,7 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
     if (resume) series_.emplace_back(pvd, resume->series[k]);
     else series_.emplace_back(pvd);
   }
+  for (const auto& i : c.model->interactions()) records_.push_back(i->run_record());
 }
 
 RunOutput::~RunOutput() = default;
@@ -163,32 +172,14 @@ void RunOutput::write_history(const model::Model& m, const solve::StepReport& r)
     row.insert(row.end(), {e.kinetic, interaction, e.external_work, e.prescribed_work, e.damping, balance});
   }
   history_->row(row);
-  for (const auto& c : m.couplings) write_coupling_csv(c, r.step);
-  record_interactions(m, r);
-}
-
-void RunOutput::record_interactions(const model::Model& m, const solve::StepReport& r) {
-  interactions_.resize(m.couplings.size());
-  for (std::size_t k = 0; k < m.couplings.size(); ++k) {
-    const model::Coupling& c = m.couplings[k];
-    InteractionRecord& rec = interactions_[k];
-    rec.energy = c.energy();
-    rec.force = c.total_force();
-    rec.lost = c.lost_points();
-    if (rec.most_lost_step < 0 || rec.lost > rec.most_lost) {  // the first step with the largest count
-      rec.most_lost = rec.lost;
-      rec.most_lost_step = r.step;
-      rec.most_lost_t = r.t;
-    }
-    if (rec.lost > 0 && !rec.warned) {
-      rec.warned = true;
-      warnings_.push_back(fmt::format(
-          "at step {} (t = {}), {} of the {} beam quadrature points of interaction '{}' have no closest "
-          "point on shell '{}' (outside the patch or no converged projection) and carry no interaction; "
-          "history.csv counts them per step ({}_lost_points), the interaction CSV marks them (status)",
-          r.step, io::format_double(r.t), rec.lost, c.quadrature_points(), c.name(), c.shell().name(), c.name()));
-    }
+  for (const auto& i : m.interactions()) {
+    const auto series = i->point_series();
+    for (std::size_t k = 0; k < series.size(); ++k)
+      if (series[k].table) write_table(series[k].name, i->point_table(k), r.step);
   }
+  for (auto& record : records_)
+    for (auto& w : record->step(r.step, r.t)) warnings_.push_back(std::move(w));
+  recorded_ = true;
 }
 
 std::vector<std::string> RunOutput::take_warnings() {
@@ -219,52 +210,52 @@ void RunOutput::write_vtk(const model::Model& m, const solve::StepReport& r) {
     if (o.bezier) write(b.name(), beam_bezier_vtu(m, b));
     if (o.sampled) write(b.name() + sampled, beam_vtu(m, b, o.samples));
   }
-  for (const auto& c : m.couplings) write(c.name(), coupling_vtu(c));
+  for (const auto& i : m.interactions()) {
+    const auto series = i->point_series();
+    for (std::size_t n = 0; n < series.size(); ++n) write(series[n].name, point_cloud_vtu(i->point_cloud(n)));
+  }
 }
 
-namespace {
-
-const char* status_name(model::CouplingPoint::Status s) {
-  switch (s) {
-    case model::CouplingPoint::Status::interior: return "interior";
-    case model::CouplingPoint::Status::soft: return "soft";
-    case model::CouplingPoint::Status::outside: return "outside";
-    case model::CouplingPoint::Status::failed: return "failed";
+void RunOutput::write_table(const std::string& series, const model::PointTable& table, int step) const {
+  std::string text;
+  std::size_t rows = 0;
+  for (std::size_t c = 0; c < table.columns.size(); ++c) {
+    const auto& col = table.columns[c];
+    if (c > 0) text += ',';
+    text += io::csv_field(col.name);
+    const std::size_t n = col.texts.empty() ? col.numbers.size() : col.texts.size();
+    if (c > 0 && n != rows) throw std::logic_error("point table of '" + series + "': columns of unequal length");
+    rows = n;
   }
-  return "failed";
-}
-
-}  // namespace
-
-void RunOutput::write_coupling_csv(const model::Coupling& c, int step) const {
-  // Lost points (outside, failed) have no distance and no angle: those columns read nan; their force and
-  // energy density are 0 (they carry no interaction). Soft points have no closest point: cos_alpha is nan.
-  std::string text =
-      "xi,s,active,status,distance,cos_alpha,force_x,force_y,force_z,force_magnitude,energy_density,soft_minimum\n";
-  for (const auto& p : c.points()) {
-    const std::string distance = p.active ? io::format_double(p.distance) : "nan";
-    const std::string cos_alpha = p.active && !p.soft ? io::format_double(p.cos_alpha) : "nan";
-    text += fmt::format("{},{},{},{},{},{},{},{},{},{},{},{}\n", io::format_double(p.xi), io::format_double(p.s),
-                        p.active ? 1 : 0, status_name(p.status), distance, cos_alpha, io::format_double(p.force.x()),
-                        io::format_double(p.force.y()), io::format_double(p.force.z()),
-                        io::format_double(p.force.norm()), io::format_double(p.energy_density), p.soft ? 1 : 0);
+  text += "\n";
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < table.columns.size(); ++c) {
+      const auto& col = table.columns[c];
+      if (c > 0) text += ',';
+      text += col.texts.empty() ? io::format_double(col.numbers[r]) : io::csv_field(col.texts[r]);
+    }
+    text += "\n";
   }
-  const std::string rel = fmt::format("interaction/{}_{:06d}.csv", c.name(), step);
+  const std::string rel = fmt::format("interaction/{}_{:06d}.csv", series, step);
   manifest_->add(rel);
   io::write_file_atomic((std::filesystem::path(dir_) / rel).string(), text);
 }
 
+namespace {
+
+io::JsonValue json(const model::SummaryField& f) {
+  return std::visit([](const auto& v) { return io::JsonValue(v); }, f.value);
+}
+
+}  // namespace
+
 io::JsonValue RunOutput::interactions_json(const model::Model& m) const {
   io::JsonValue all = io::JsonValue::object();
-  for (std::size_t k = 0; k < m.couplings.size() && k < interactions_.size(); ++k) {
-    const InteractionRecord& rec = interactions_[k];
+  if (!recorded_) return all;
+  for (std::size_t k = 0; k < m.interactions().size() && k < records_.size(); ++k) {
     io::JsonValue j = io::JsonValue::object();
-    j.set("final_energy", rec.energy);
-    j.set("final_force", std::vector<double>{rec.force.x(), rec.force.y(), rec.force.z()});
-    j.set("final_lost_points", rec.lost).set("quadrature_points", m.couplings[k].quadrature_points());
-    j.set("max_lost_points", rec.most_lost).set("max_lost_points_step", rec.most_lost_step);
-    j.set("max_lost_points_t", rec.most_lost_t);
-    all.set(m.couplings[k].name(), std::move(j));
+    for (const auto& f : records_[k]->fields()) j.set(f.key, json(f));
+    all.set(m.interactions()[k]->name(), std::move(j));
   }
   return all;
 }
@@ -281,10 +272,14 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   io::JsonValue monitors = io::JsonValue::object();
   for (const auto& mon : m.monitors) monitors.set(mon->name(), mon->value(m));
   j.set("final_monitors", std::move(monitors));
-  io::JsonValue soft = io::JsonValue::object();
-  for (const auto& c : m.couplings)
-    if (c.soft_points() > 0) soft.set(c.name(), c.soft_points());
-  j.set("soft_minimum_points", std::move(soft));
+  // The interaction kinds' sections (case/case_interactions.hpp), each present even when empty.
+  for (const auto& section : casefile::interaction_kinds().summary_sections()) {
+    io::JsonValue members = io::JsonValue::object();
+    for (const auto& i : m.interactions())
+      for (const auto& f : i->summary_sections())
+        if (f.key == section) members.set(i->name(), json(f));
+    j.set(section, std::move(members));
+  }
   j.set("interactions", interactions_json(m));
   if (extra)
     for (const auto& [key, value] : extra->members()) j.set(key, value);

@@ -1,6 +1,6 @@
 #pragma once
 // Everything a run leaves in its output directory: history.csv (one row per converged step), the
-// interaction data along each beam per step (interaction/<name>_<step>.csv), a VTK time series per body
+// interactions' point tables per step (interaction/<series>_<step>.csv), a VTK time series per body
 // (<body>.pvd + vtk/<body>_<step>.vtu), summary.json, and the manifest listing all of them
 // (output/manifest.hpp). Every file is complete on disk after each step (rows are appended whole, VTK and
 // JSON files are renamed into place), and each is a regular file created in the directory: nothing is
@@ -51,7 +51,7 @@ class RunOutput {
   RunOutput(const casefile::Case& c, std::string directory, const OutputPosition* resume = nullptr);
   ~RunOutput();
   // Writes the state of the model's last evaluate() as step `report.step`: a history row and the
-  // interaction CSVs.
+  // interactions' point tables.
   void write_history(const model::Model& m, const solve::StepReport& report);
   void write_vtk(const model::Model& m, const solve::StepReport& report);
   bool vtk_due(int step) const { return case_.output.vtk && step % case_.output.vtk_every == 0; }
@@ -66,18 +66,9 @@ class RunOutput {
   OutputPosition position() const;
 
  private:
-  // What summary.json reports per interaction: the values of the last step written and the step with the
-  // most lost points (model::Coupling::lost_points).
-  struct InteractionRecord {
-    double energy = 0;
-    Eigen::Vector3d force = Eigen::Vector3d::Zero();
-    int lost = 0, most_lost = 0, most_lost_step = -1;
-    double most_lost_t = 0;
-    bool warned = false;
-  };
-  void record_interactions(const model::Model& m, const solve::StepReport& report);
   io::JsonValue interactions_json(const model::Model& m) const;
-  void write_coupling_csv(const model::Coupling& c, int step) const;
+  // interaction/<series>_<step>.csv
+  void write_table(const std::string& series, const model::PointTable& table, int step) const;
   const casefile::Case& case_;
   std::string dir_;
   std::vector<model::Observable> observables_;
@@ -85,7 +76,9 @@ class RunOutput {
   std::unique_ptr<Manifest> manifest_;
   std::unique_ptr<io::CsvWriter> history_;
   std::vector<io::PvdCollection> series_;
-  std::vector<InteractionRecord> interactions_;
+  // What summary.json reports per interaction (model::Interaction::run_record), fed every step written.
+  std::vector<std::unique_ptr<model::Interaction::RunRecord>> records_;
+  bool recorded_ = false;  // a step has been written
   std::vector<std::string> warnings_;
 };
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "case_runner.hpp"
+#include "model/coupling.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -18,7 +19,7 @@ TEST(CoupledModel, TangentMatchesFiniteDifferencesForEveryFormulation) {
                                                 [](model::Model& m, const Eigen::VectorXd& q) {
                                                   m.evaluate(q, 1.0, false);
                                                   int active = 0;
-                                                  for (const auto& p : m.couplings[0].points()) active += p.active;
+                                                  for (const auto& p : m.interactions_of<model::Coupling>()[0]->points()) active += p.active;
                                                   ASSERT_GT(active, 10) << "the beam must interact with the panel";
                                                 });
     EXPECT_LT(error, 1e-6) << f;

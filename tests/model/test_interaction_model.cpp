@@ -7,6 +7,7 @@
 #include <random>
 
 #include "case_runner.hpp"
+#include "model/coupling.hpp"
 #include "laws/lennard_jones.hpp"
 
 namespace fibrane::testing {
@@ -59,7 +60,7 @@ TEST(InteractionModel, ParallelBeamEnergyIsLengthTimesLaw) {
     auto c = casefile::read_case((dir / "case.yaml").string());
     c.model->evaluate(c.model->initial_unknowns(), 0.0, false);
     const double expected = 4.0 * law.evaluate(z, 1.0).value;
-    EXPECT_NEAR(c.model->couplings[0].energy(), expected, 1e-10 * std::abs(expected)) << f;
+    EXPECT_NEAR(c.model->interactions_of<model::Coupling>()[0]->energy(), expected, 1e-10 * std::abs(expected)) << f;
   }
 }
 
@@ -100,7 +101,7 @@ TEST(InteractionModel, SymmetryShareHalvesTheBeamsContributions) {
     auto c = casefile::read_case((dir / "case.yaml").string());
     Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(c.model->size(), 0.0, 0.002);
     c.model->evaluate(q, 1.0, false);
-    return std::make_tuple(c.model->strain_energy(), c.model->couplings[0].energy(),
+    return std::make_tuple(c.model->strain_energy(), c.model->interactions_of<model::Coupling>()[0]->energy(),
                            Eigen::VectorXd(c.model->residual()));
   };
   const auto [e_full, i_full, r_full] = run("1.0");

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "case_runner.hpp"
+#include "model/coupling.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -18,8 +19,8 @@ TEST(PeelingExample, InitialHeightIsTheEquilibriumDistance) {
   const auto dir = fresh_directory("peeling-z0");
   std::ofstream(dir / "peeling.yaml") << example_text("peeling.yaml");
   const auto c = casefile::read_case((dir / "peeling.yaml").string());
-  ASSERT_EQ(c.model->couplings.size(), 1u);
-  const double d_eq = c.model->couplings[0].law().equilibrium_distance(1.0);
+  ASSERT_EQ(c.model->interactions_of<model::Coupling>().size(), 1u);
+  const double d_eq = c.model->interactions_of<model::Coupling>()[0]->law().equilibrium_distance(1.0);
   for (const auto& p : c.model->beams.at(0).curve.control_points()) EXPECT_NEAR(p.z(), d_eq, 1e-12 * d_eq);
 }
 

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "case_runner.hpp"
+#include "model/coupling.hpp"
 #include "common/error.hpp"
 
 namespace fibrane::testing {
@@ -22,15 +23,15 @@ TEST(SoftMinimum, ModelTangentMatchesFiniteDifferences) {
       "soft-minimum-tangent", ", soft_minimum: {width: 5.0e-3, below: 2}", 5,
       [](model::Model& m, const Eigen::VectorXd& q) {
         m.evaluate(q, 1.0, true);
-        ASSERT_EQ(m.couplings[0].soft_points(), 0);
-        const double plain_energy = m.couplings[0].energy();
+        ASSERT_EQ(m.interactions_of<model::Coupling>()[0]->soft_points(), 0);
+        const double plain_energy = m.interactions_of<model::Coupling>()[0]->energy();
         m.accept(q, 1.0);
         m.evaluate(q, 1.0, true);
-        EXPECT_GT(m.couplings[0].soft_points(), 10);
+        EXPECT_GT(m.interactions_of<model::Coupling>()[0]->soft_points(), 10);
         // The switch is continuous: each point's offset makes phi(D + offset) = phi(d) at the state where
         // it switches (round-off of the sum of ~16 point energies).
-        EXPECT_NEAR(m.couplings[0].energy(), plain_energy, 1e-12 * std::abs(plain_energy));
-        for (const auto& p : m.couplings[0].points())
+        EXPECT_NEAR(m.interactions_of<model::Coupling>()[0]->energy(), plain_energy, 1e-12 * std::abs(plain_energy));
+        for (const auto& p : m.interactions_of<model::Coupling>()[0]->points())
           if (p.soft) {
             EXPECT_TRUE(p.active);
           }
@@ -76,7 +77,7 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
   EXPECT_EQ(mirrors[1].axis, 1);
   EXPECT_EQ(mirrors[0].offset, 0.0);
   EXPECT_EQ(mirrors[1].offset, 0.0);
-  const auto& coupling = r.c.model->couplings[0];
+  const auto& coupling = *r.c.model->interactions_of<model::Coupling>()[0];
   EXPECT_GE(coupling.soft_points(), 1);
   for (const auto& p : coupling.points())
     if (p.soft) {
