@@ -19,6 +19,7 @@
 #include "model/observables.hpp"
 #include "output/directory_lock.hpp"
 #include "output/run_output.hpp"
+#include "output/vtk_pieces.hpp"
 #include "run/checkpoint.hpp"
 #include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
@@ -92,6 +93,8 @@ class Run {
     if (restart) resume(*restart);
     // A distributed run's processes hold the same state: the first one writes.
     if (writes_) out_ = std::make_unique<output::RunOutput>(c, directory, restart ? &restart->output : nullptr);
+    if (c.output.vtk && c.output.vtk_pieces)
+      pieces_ = std::make_unique<output::VtkPieces>(c, directory, m_, out_.get(), restart ? &restart->output : nullptr);
     if (restart) {
       if (!options.quiet && writes_)
         std::cerr << "fibrane: restarting from the checkpoint of step " << restart->step
@@ -107,6 +110,7 @@ class Run {
         warn();
         out_->write_vtk(m_, initial);
       }
+      if (pieces_) pieces_->write(m_, initial);
     }
   }
 
@@ -149,6 +153,7 @@ class Run {
   const RunOptions& options_;
   std::unique_ptr<solve::ContinuationMethod> method_;
   std::unique_ptr<output::RunOutput> out_;
+  std::unique_ptr<output::VtkPieces> pieces_;  // on every process, with output.vtk_pieces
   std::unique_ptr<solve::LinearSolver> solver_;
   bool writes_;  // this process writes the output (not a distributed run's other processes)
   Eigen::VectorXd q_;
@@ -226,7 +231,10 @@ bool Run::on_step(const solve::StepReport& r) {
   stopped_ = stop_rule_.reached(m_);
   const double t_end = c_.run.steps.t_end;
   const double t_last = t_end - 1e-12 * std::max(1.0, std::abs(t_end));
-  if (out_ && (r.t >= t_last || stopped_ || out_->vtk_due(r.step))) out_->write_vtk(m_, r);
+  if (r.t >= t_last || stopped_ || (c_.output.vtk && r.step % c_.output.vtk_every == 0)) {
+    if (out_) out_->write_vtk(m_, r);
+    if (pieces_) pieces_->write(m_, r);
+  }
   last_step_ = r.step;
   last_t_ = r.t;
   const int every = c_.output.checkpoint_every;
