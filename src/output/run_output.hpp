@@ -54,7 +54,6 @@ class RunOutput {
   // interaction CSVs.
   void write_history(const model::Model& m, const solve::StepReport& report);
   void write_vtk(const model::Model& m, const solve::StepReport& report);
-  bool vtk_due(int step) const { return case_.output.vtk && step % case_.output.vtk_every == 0; }
   // `extra`: further members of the summary object (e.g. the limit points the run driver found).
   void write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
                      const std::string& solver_name, const io::JsonValue* extra = nullptr);
