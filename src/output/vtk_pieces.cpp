@@ -63,10 +63,10 @@ VtkPieces::VtkPieces(const casefile::Case& c, std::string directory, const model
     rank_ = d->rank();
     size_ = d->size();
   }
-  names_ = series_names(c);
   if (!first_) return;
-  for (std::size_t k = 0; k < names_.size(); ++k) {
-    const std::string pvd = names_[k] + "_pieces.pvd";
+  const std::vector<std::string> names = series_names(c);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string pvd = names[k] + "_pieces.pvd";
     first_->list(pvd);
     const std::string path = (std::filesystem::path(dir_) / pvd).string();
     if (!resume || k >= resume->series.size()) {

@@ -32,8 +32,7 @@ class VtkPieces {
   std::string dir_;
   RunOutput* first_;
   int rank_ = 0, size_ = 1;
-  std::vector<std::string> names_;  // the series, in RunOutput's order
-  std::vector<io::PvdCollection> series_;
+  std::vector<io::PvdCollection> series_;  // the first process's <series>_pieces.pvd, in RunOutput's order
 };
 
 }  // namespace fibrane::output
