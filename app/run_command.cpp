@@ -31,7 +31,8 @@ void register_run_command(CLI::App& app) {
   auto* output = cmd->add_option("-o,--output", opt->run.output_directory,
                                  "Output directory (default: the case's output.directory); an earlier run's files there are replaced");
   cmd->add_option("--restart", opt->restart_directory,
-                  "Continue the run whose output (and checkpoint.bin) is in this directory, from its last checkpoint")
+                  "Continue the run whose output (and checkpoint.bin) is in this directory, from its last checkpoint "
+                  "(in builds with PETSc also with another number of processes than the run that wrote it)")
       ->excludes(output);
   cmd->add_option("--threads", opt->run.threads, "Threads of the assembly (OpenMP) and of the solvers' BLAS (default: all cores)")
       ->check(CLI::Range(1, 1024));
@@ -47,9 +48,6 @@ void register_run_command(CLI::App& app) {
         ->check(CLI::IsMember({"mumps", "gmres"}));
   cmd->callback([opt]() {
     if (mpi_available()) {
-      if (!opt->restart_directory.empty())
-        throw InputError("--restart: builds with PETSc run every case through the distributed driver, which "
-                         "writes no checkpoints; restart with a build without FIBRANE_PETSC");
       run_mpi(*opt);
       return;
     }

@@ -53,6 +53,10 @@ void run_mpi(const RunCommandOptions& o) {
   casefile::Case c = read_everywhere(o, distribution, distributed);
   apply_max_steps(c, o);
   run::RunOptions options = o.run;
+  if (!o.restart_directory.empty()) {
+    options.output_directory = o.restart_directory;
+    options.restart = true;
+  }
   parallel::PetscSolverOptions solver;
   if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;
   if (distributed) {
@@ -64,8 +68,12 @@ void run_mpi(const RunCommandOptions& o) {
   }
   try {
     const run::RunSummary s = run::run_case(c, options);
+    // No process leaves before the first has written summary.json: mpirun ends the others' processes when
+    // one exits with a nonzero code (an interrupted or stopped run).
+    distribution.all(true);
     if (session.rank() == 0) report(s);
-    if (!s.result.completed()) throw CLI::RuntimeError(1);
+    // Interrupted: the shell's convention 128 + signal, as a serial run (the processes agree on the signal).
+    if (!s.result.completed()) throw CLI::RuntimeError(s.interrupted_by ? 128 + s.interrupted_by : 1);
   } catch (const CLI::RuntimeError&) {
     throw;
   } catch (const std::exception& e) {

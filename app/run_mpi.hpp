@@ -12,7 +12,7 @@ struct RunCommandOptions {
   run::RunOptions run;
   int max_steps = 0;       // --max-steps: bounds the case's steps.max_steps; 0 keeps it
   std::string mpi_solver;  // "mumps" or "gmres": the distributed solver; empty: by the process count
-  std::string restart_directory;  // --restart: continue the run in this directory (serial builds only)
+  std::string restart_directory;  // --restart: continue the run in this directory
 };
 
 // Lowers the case's steps.max_steps to options.max_steps when that is set and smaller.
@@ -25,7 +25,9 @@ bool mpi_available();
 // processes (or --mpi-solver) distributed. Errors while reading the case, which every process meets
 // alike, end every process with exit code 2 (1 for other failures) and one message; an error during the
 // run ends the whole run (MPI_Abort), since the other processes may be waiting for the failed one.
-// Throws CLI::RuntimeError(1) when the run stopped before its end.
+// --restart continues from the checkpoint, which holds the whole state in the model's numbering: any
+// process count continues any process count's run. Throws CLI::RuntimeError(1) when the run stopped
+// before its end, 128 + the signal when a signal interrupted it (on every process).
 void run_mpi(const RunCommandOptions& options);
 
 // Prints the run's closing line (stdout) and, for a run that stopped early, why (stderr).

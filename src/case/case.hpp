@@ -23,6 +23,9 @@ struct OutputSettings {
   // Which VTK files a body gets: exact Bezier cells (geometry, displacement, twist) as <body>.pvd,
   // sampled cells with the section forces and moments as <body>_sampled.pvd, or both.
   bool bezier = true, sampled = true;
+  // Also each process's piece of every VTK series (.vtu pieces, a .pvtu per step, <series>_pieces.pvd):
+  // output/vtk_pieces.hpp.
+  bool vtk_pieces = false;
 };
 
 struct RunSettings {

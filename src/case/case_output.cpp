@@ -25,6 +25,7 @@ void read_output(OutputSettings& out, const std::optional<io::YamlNode>& node, c
     out.bezier = which != "sampled";
     out.sampled = which != "bezier";
   }
+  out.vtk_pieces = node->get("vtk_pieces", out.vtk_pieces);
   node->reject_unknown_keys();
 }
 

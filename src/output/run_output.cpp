@@ -151,6 +151,8 @@ RunOutput::RunOutput(const casefile::Case& c, std::string directory, const Outpu
 
 RunOutput::~RunOutput() = default;
 
+void RunOutput::list(const std::string& relative_path) { manifest_->add(relative_path); }
+
 OutputPosition RunOutput::position() const {
   OutputPosition p;
   p.history_rows = history_->rows_written();

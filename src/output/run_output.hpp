@@ -54,11 +54,12 @@ class RunOutput {
   // interactions' point tables.
   void write_history(const model::Model& m, const solve::StepReport& report);
   void write_vtk(const model::Model& m, const solve::StepReport& report);
-  bool vtk_due(int step) const { return case_.output.vtk && step % case_.output.vtk_every == 0; }
   // `extra`: further members of the summary object (e.g. the limit points the run driver found).
   void write_summary(const model::Model& m, const solve::ContinuationResult& result, double wall_seconds,
                      const std::string& solver_name, const io::JsonValue* extra = nullptr);
   const std::string& directory() const { return dir_; }
+  // Lists a file that another writer (output/vtk_pieces.hpp) is about to create in the manifest.
+  void list(const std::string& relative_path);
   // Warnings raised by the steps written since the last call (the first step of the run at which an
   // interaction has lost points), as sentences for stderr; clears them.
   std::vector<std::string> take_warnings();

@@ -2,7 +2,9 @@
 
 #include <omp.h>
 
+#include <array>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <exception>
 #include <iostream>
@@ -17,6 +19,7 @@
 #include "model/observables.hpp"
 #include "output/directory_lock.hpp"
 #include "output/run_output.hpp"
+#include "output/vtk_pieces.hpp"
 #include "run/checkpoint.hpp"
 #include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
@@ -90,8 +93,10 @@ class Run {
     if (restart) resume(*restart);
     // A distributed run's processes hold the same state: the first one writes.
     if (writes_) out_ = std::make_unique<output::RunOutput>(c, directory, restart ? &restart->output : nullptr);
+    if (c.output.vtk && c.output.vtk_pieces)
+      pieces_ = std::make_unique<output::VtkPieces>(c, directory, m_, out_.get(), restart ? &restart->output : nullptr);
     if (restart) {
-      if (!options.quiet)
+      if (!options.quiet && writes_)
         std::cerr << "fibrane: restarting from the checkpoint of step " << restart->step
                   << " (t = " << format_number(restart->t) << ") in " << directory << "\n";
     } else {
@@ -105,6 +110,7 @@ class Run {
         warn();
         out_->write_vtk(m_, initial);
       }
+      if (pieces_) pieces_->write(m_, initial);
     }
   }
 
@@ -140,12 +146,14 @@ class Run {
     for (const auto& w : out_->take_warnings()) std::cerr << "\nfibrane: warning: " << w << "\n";
   }
   void write_checkpoint(int step, double t, bool completed = false);
+  int agreed_signal() const;
 
   casefile::Case& c_;
   model::Model& m_;
   const RunOptions& options_;
   std::unique_ptr<solve::ContinuationMethod> method_;
   std::unique_ptr<output::RunOutput> out_;
+  std::unique_ptr<output::VtkPieces> pieces_;  // on every process, with output.vtk_pieces
   std::unique_ptr<solve::LinearSolver> solver_;
   bool writes_;  // this process writes the output (not a distributed run's other processes)
   Eigen::VectorXd q_;
@@ -155,6 +163,7 @@ class Run {
   io::ProgressLine progress_;
   bool stopped_ = false, interrupted_ = false;  // by the stop rule, by a signal
   bool stopped_by_caller_ = false;              // RunOptions::on_step returned false
+  int signal_ = 0;  // the signal that interrupted the run (agreed by a distributed run's processes)
   bool prepared_ = true;  // the method found its starting state (ContinuationMethod::prepare)
   std::string prepare_failure_;
   std::exception_ptr error_;  // the exception that ended march(), if one did
@@ -200,6 +209,18 @@ void Run::write_checkpoint(int step, double t, bool completed) {
   checkpoint_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The signal received since the run started, or 0. A distributed run's processes agree (one collective
+// sum per step): a signal to any of them ends the run on all after the same step, SIGTERM before SIGINT
+// if both came. A batch system signals the processes of a job at slightly different moments.
+int Run::agreed_signal() const {
+  const int own = InterruptHandlers::received();
+  const solve::Distribution* d = m_.distribution();
+  if (!d || d->size() == 1) return own;
+  std::array<double, 2> received{own == SIGINT ? 1.0 : 0.0, own == SIGTERM ? 1.0 : 0.0};
+  d->sum(received);
+  return received[1] > 0 ? SIGTERM : received[0] > 0 ? SIGINT : 0;
+}
+
 bool Run::on_step(const solve::StepReport& r) {
   // A dynamic run's support forces include inertia: the time integrator's reactions replace the residual.
   if (const Eigen::VectorXd* reactions = method_->reactions()) m_.set_reactions(reactions);
@@ -211,14 +232,18 @@ bool Run::on_step(const solve::StepReport& r) {
   stopped_ = stop_rule_.reached(m_);
   const double t_end = c_.run.steps.t_end;
   const double t_last = t_end - 1e-12 * std::max(1.0, std::abs(t_end));
-  if (out_ && (r.t >= t_last || stopped_ || out_->vtk_due(r.step))) out_->write_vtk(m_, r);
+  if (r.t >= t_last || stopped_ || (c_.output.vtk && r.step % c_.output.vtk_every == 0)) {
+    if (out_) out_->write_vtk(m_, r);
+    if (pieces_) pieces_->write(m_, r);
+  }
   last_step_ = r.step;
   last_t_ = r.t;
   if (!stopped_ && options_.on_step && !options_.on_step(r, q_, m_)) stopped_by_caller_ = true;
   const int every = c_.output.checkpoint_every;
   // A signal received by now (while the step was solved, its output written or the caller's hook ran) ends
   // the run here.
-  interrupted_ = InterruptHandlers::received() != 0;
+  signal_ = agreed_signal();
+  interrupted_ = signal_ != 0;
   if ((every > 0 && r.step % every == 0) || interrupted_) write_checkpoint(r.step, r.t);
   progress_.update(r.step, r.t, r.iterations, r.residual_norm);
   return !stopped_ && !interrupted_ && !stopped_by_caller_;
@@ -250,7 +275,7 @@ void Run::march(RunSummary& summary) {
     }
   }
   m_.set_reactions(nullptr);
-  summary.interrupted_by = interrupted_ ? InterruptHandlers::received() : 0;
+  summary.interrupted_by = interrupted_ ? signal_ : 0;
   // A run that ran out of steps can be continued with a larger budget, an interrupted one as it was:
   // their last step is checkpointed.
   const bool out_of_steps = summary.result.outcome == solve::Outcome::max_steps;
@@ -293,24 +318,41 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
-  check_output_directory(c, summary.directory,
-                         options.output_directory.empty() ? "output.directory" : options.restart ? "--restart" : "-o");
-  check_finite_model(c);
   // One run per directory, from before its first write to its exit; a distributed run's first process
   // writes and locks. A run refused before it starts leaves no lock file or directory behind.
   output::DirectoryLock lock;
-  if (!c.model->distribution() || c.model->distribution()->rank() == 0) {
-    try {
-      lock = output::DirectoryLock(summary.directory, !options.restart);
-    } catch (const InputError& e) {
-      throw InputError(c.path + ": " + e.what());
-    }
-    if (!lock.warning().empty()) std::cerr << "fibrane: warning: " << lock.warning() << "\n";
-  }
   std::optional<RunCheckpoint> restart;
+  std::string refused;  // why this process cannot start the run (the lock, the checkpoint)
+  const solve::Distribution* d = c.model->distribution();
+  try {
+    // Only the writing process probes the directory: probes of several processes would race (one
+    // removes the directory it created while another probes a file in it).
+    const bool writes = !d || d->rank() == 0;
+    if (writes)
+      check_output_directory(c, summary.directory,
+                             options.output_directory.empty() ? "output.directory" : options.restart ? "--restart" : "-o");
+    check_finite_model(c);
+    if (writes) {
+      try {
+        lock = output::DirectoryLock(summary.directory, !options.restart);
+      } catch (const InputError& e) {
+        throw InputError(c.path + ": " + e.what());
+      }
+      if (!lock.warning().empty()) std::cerr << "fibrane: warning: " << lock.warning() << "\n";
+    }
+    // Every process reads the checkpoint (and checks history.csv) before the first one writes.
+    if (options.restart) restart = read_checkpoint(summary.directory, c);
+  } catch (const InputError& e) {
+    refused = e.what();
+  }
+  // A distributed run's processes refuse it together, with the first process's reason.
+  if (d) refused = d->first_text(refused);
+  if (!refused.empty()) {
+    lock.abandon();
+    throw InputError(refused);
+  }
   std::unique_ptr<Run> started;
   try {
-    if (options.restart) restart = read_checkpoint(summary.directory, c);
     c.model->evaluate(c.model->initial_unknowns(), c.run.steps.t_start, false);  // the initial state
     started = std::make_unique<Run>(c, options, summary.directory, restart);
   } catch (const InputError&) {

@@ -5,6 +5,7 @@ For the peeling and the bending example at a coarse mesh (the meshes of their C+
   serial:       fibrane run CASE --threads 1                 (the case's solver set to auto: CHOLMOD)
   1 process:    mpiexec -n 1 fibrane run CASE --mpi-solver mumps
   2 processes:  mpiexec -n 2 fibrane run CASE
+  3 processes:  mpiexec -n 3 fibrane run CASE                (uneven ownership: the unknowns do not split evenly)
 and compares every history.csv with the serial one: the same steps, Newton iterations and limit-point
 flags, and every other column within 1e-8 of the serial column's largest magnitude (relative). The
 components of a vector (columns NAME_x, NAME_y, NAME_z) share one scale, the largest magnitude of the three:
@@ -14,6 +15,7 @@ Exit 0 when all agree, 1 with the differing columns listed otherwise.
 """
 import argparse
 import csv
+import json
 import os
 import pathlib
 import shutil
@@ -63,14 +65,24 @@ def read_history(path):
     return {h: [float(r[k]) for r in data] for k, h in enumerate(header)}
 
 
-def run(command, cwd, log):
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
+def mpi_environment():
+    """OpenMPI's settings for the tests: as root (CI containers), more processes than cores."""
+    return dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1",
                OMPI_MCA_mpi_yield_when_idle="1")
+
+
+def run(command, cwd, log):
+    env = mpi_environment()
     with open(log, "w") as out:
         code = subprocess.run(command, cwd=cwd, env=env, stdout=out, stderr=subprocess.STDOUT).returncode
     if code != 0:
         sys.stdout.write(pathlib.Path(log).read_text())
         raise SystemExit(f"mpi_history: {' '.join(map(str, command))} exited with {code}")
+
+
+def free_unknowns(directory):
+    with open(directory / "summary.json") as f:
+        return json.load(f)["free_dofs"]
 
 
 def scales(serial):
@@ -85,7 +97,7 @@ def scales(serial):
     return {c: (v if v > 0 else 1.0) for c, v in out.items()}
 
 
-def compare(serial, other, label):
+def compare(serial, other, label, tolerance=TOLERANCE):
     """Lines describing every disagreement of `other` with `serial` (empty: they agree)."""
     problems = []
     if set(serial) != set(other):
@@ -104,9 +116,9 @@ def compare(serial, other, label):
         scale = scale_of[column]
         difference = max(abs(a - b) for a, b in zip(values, other[column])) / scale
         worst = max(worst, difference)
-        if not difference <= TOLERANCE:
+        if not difference <= tolerance:
             problems.append(f"{label}: column {column} differs by {difference:.3g} of its largest magnitude")
-    print(f"{label}: {len(values)} rows, largest relative difference {worst:.3g} (tolerance {TOLERANCE:g})")
+    print(f"{label}: {len(values)} rows, largest relative difference {worst:.3g} (tolerance {tolerance:g})")
     return problems
 
 
@@ -129,12 +141,18 @@ def main():
             "serial": [a.fibrane, "run", case, "-q", "--threads", "1", "-o", a.work / f"{name}-serial"],
             "np1": [a.mpiexec, "-n", "1", a.fibrane, "run", case, "-q", "--mpi-solver", "mumps", "-o", a.work / f"{name}-np1"],
             "np2": [a.mpiexec, "-n", "2", a.fibrane, "run", case, "-q", "-o", a.work / f"{name}-np2"],
+            "np3": [a.mpiexec, "-n", "3", a.fibrane, "run", case, "-q", "-o", a.work / f"{name}-np3"],
         }
         for label, command in runs.items():
             run(command, a.work, a.work / f"{name}-{label}.log")
         serial = read_history(a.work / f"{name}-serial" / "history.csv")
-        for label in ("np1", "np2"):
+        for label in ("np1", "np2", "np3"):
             problems += compare(serial, read_history(a.work / f"{name}-{label}" / "history.csv"), f"{name} {label}")
+    # 3 processes own unequal shares of the unknowns (PETSc's split) in at least one case.
+    uneven = [n for n in a.cases if free_unknowns(a.work / f"{n}-np3") % 3 != 0]
+    print(f"cases whose unknowns 3 processes own unevenly: {uneven}")
+    if not uneven:
+        problems.append("no case splits its unknowns unevenly over 3 processes")
     for line in problems:
         print(line)
     return 1 if problems else 0
