@@ -21,10 +21,22 @@ V scaled(const J& s, const V& v) { return {s * v.x, s * v.y, s * v.z}; }
 }  // namespace
 
 SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const SectionBeamPoint& p) {
+  // Beyond the cut-off by the lower bound d - R_A - R_B of the gap: no derivatives needed.
+  const double ra = law.radius_a(), rb = law.radius_b();
+  {
+    const Eigen::Vector3d t = p.r[1].normalized(), diff = p.x - p.r[0];
+    const double d = (diff - diff.dot(t) * t).norm();
+    if (d - ra - rb >= law.cutoff_gap() && std::abs(diff.dot(t)) <= 1e-8 * diff.norm()) {
+      SectionBeamResult out;
+      out.distance = d;
+      out.gap = d - ra - rb;
+      out.cos_angle = std::abs(p.x_xi.normalized().dot(t));
+      return out;
+    }
+  }
   const V x = variable(p.x, 0), x_xi = variable(p.x_xi, 3);
   const V r0 = variable(p.r[0], 6), r1 = variable(p.r[1], 9), r2 = variable(p.r[2], 12);
   const V r3 = constant(p.r[3]);
-  const double ra = law.radius_a(), rb = law.radius_b();
 
   // (S7): the closest point of B's axis moves with all variables.
   const V gap0 = x - r0;
@@ -106,18 +118,37 @@ SectionBeamResult add_section_beam_point(const laws::SectionCylinderLaw& law,
   if ((residual && residual->size() != n) || (tangent && (tangent->rows() != n || tangent->cols() != n)))
     throw std::invalid_argument("section-beam: residual or tangent of the wrong size");
   if (energy) *energy += weight * res.energy;
-  // w = B q: variable block k (3 components) of CP column j has the coefficient basis(row, j).
-  Eigen::MatrixXd bmat = Eigen::MatrixXd::Zero(15, n);
-  for (int j = 0; j < na; ++j)
-    for (int c = 0; c < 3; ++c) {
-      bmat(c, 4 * j + c) = basis_a(0, j);
-      bmat(3 + c, 4 * j + c) = basis_a(1, j);
+  // w = B q: control point j of A enters the variable groups x (0) and x_xi (1) with basis_a(0, j),
+  // basis_a(1, j); control point j of B the groups r_B, r_B', r_B'' (2, 3, 4) with basis_b(0..2, j).
+  // B^T g and B^T H B are formed block by block (3 x 3 per pair of control points).
+  const int ncp = na + nb;
+  auto coefficient = [&](int cp, int group) {
+    if (cp < na) return group < 2 ? basis_a(group, cp) : 0.0;
+    return group >= 2 ? basis_b(group - 2, cp - na) : 0.0;
+  };
+  auto groups = [&](int cp, int& first, int& last) {
+    first = cp < na ? 0 : 2;
+    last = cp < na ? 2 : 5;
+  };
+  for (int j = 0; j < ncp; ++j) {
+    int g0, g1;
+    groups(j, g0, g1);
+    if (residual) {
+      Eigen::Vector3d r = Eigen::Vector3d::Zero();
+      for (int g = g0; g < g1; ++g) r += coefficient(j, g) * res.gradient.segment<3>(3 * g);
+      residual->segment<3>(4 * j) += weight * r;
     }
-  for (int j = 0; j < nb; ++j)
-    for (int k = 0; k < 3; ++k)
-      for (int c = 0; c < 3; ++c) bmat(6 + 3 * k + c, 4 * (na + j) + c) = basis_b(k, j);
-  if (residual) residual->noalias() += weight * bmat.transpose() * res.gradient;
-  if (tangent) tangent->noalias() += weight * bmat.transpose() * res.hessian * bmat;
+    if (!tangent) continue;
+    for (int l = 0; l < ncp; ++l) {
+      int h0, h1;
+      groups(l, h0, h1);
+      Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+      for (int g = g0; g < g1; ++g)
+        for (int h = h0; h < h1; ++h)
+          block += (coefficient(j, g) * coefficient(l, h)) * res.hessian.block<3, 3>(3 * g, 3 * h);
+      tangent->block<3, 3>(4 * j, 4 * l) += weight * block;
+    }
+  }
   return res;
 }
 

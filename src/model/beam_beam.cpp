@@ -56,7 +56,8 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
           const double xi = el.xi0 + (g.points[q] + 1.0) * j;
           // The half pass's 1/2 x the fiber's share x Gauss weight x dxi/dparent x reference J (Eq. 4).
           const double weight = 0.5 * body.share * g.weights[q] * j * body.curve.derivative(xi, 1).norm();
-          quad_[f].push_back({static_cast<int>(e), xi, weight, s + arc_length(body.curve, el.xi0, xi)});
+          quad_[f].push_back({static_cast<int>(e), xi, weight, s + arc_length(body.curve, el.xi0, xi),
+                              body.curve.basis(xi, 0).R.row(0).transpose()});
         }
       }
       s += arc_length(body.curve, el.xi0, el.xi1);
@@ -104,14 +105,13 @@ void BeamBeamInteraction::project(int pass, int i, std::vector<int>& candidates)
   const BeamBody& src = *fiber_[source];
   const BeamBody& tgt = *fiber_[target];
   const Quad& q = quad_[source][i];
-  const auto b = src.curve.basis(q.xi, 0);
   Eigen::Vector3d x = Eigen::Vector3d::Zero();
-  for (int j = 0; j < b.R.cols(); ++j) x += b.R(0, j) * cps_[source][b.first + j];
+  const auto& cps_of = src.elements[q.element].control_points;
+  for (std::size_t j = 0; j < cps_of.size(); ++j) x += q.basis[static_cast<int>(j)] * cps_[source][cps_of[j]];
   FiberPoint& out = points_[source][i];
   out.position = x;
   candidates.clear();
   tree_[target].near_point(x, search_distance(), candidates);
-  std::sort(candidates.begin(), candidates.end());
   const auto& cps = cps_[target];
   auto axis = [&](double xi) {
     const auto basis = tgt.curve.basis(xi, 3);
@@ -120,9 +120,15 @@ void BeamBeamInteraction::project(int pass, int i, std::vector<int>& candidates)
       for (int k = 0; k < 4; ++k) r.col(k) += basis.R(k, j) * cps[basis.first + j];
     return r;
   };
+  // Branch and bound: an element's box holds it, so an element whose box is farther than the best
+  // distance found so far cannot hold a closer point (nearest boxes first).
+  std::vector<std::pair<double, int>> order;
+  for (int e : candidates)
+    if (!excluded(i, e)) order.emplace_back(tree_[target].box(e).exteriorDistance(x), e);
+  std::sort(order.begin(), order.end());
   double best = std::numeric_limits<double>::infinity(), best_xi = kNone;
-  for (int e : candidates) {
-    if (excluded(i, e)) continue;
+  for (const auto& [box_distance, e] : order) {
+    if (box_distance >= best) break;
     const auto& el = tgt.elements[e];
     const double warm = warm_[source][i];
     double xi = warm >= el.xi0 && warm <= el.xi1 ? warm : 0.5 * (el.xi0 + el.xi1);
@@ -204,8 +210,8 @@ bool BeamBeamInteraction::collect_pairs() {
   bool changed = false;
   for (const auto& key : required)
     if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
-  if (changed) {  // a margin of one search distance keeps the pattern while the fibers move
-    pairs_ = near(2 * search_distance());
+  if (changed) {  // a margin of half the search distance keeps the pattern while the fibers move
+    pairs_ = near(1.5 * search_distance());
     pairs_.insert(pairs_.end(), required.begin(), required.end());
     std::sort(pairs_.begin(), pairs_.end());
     pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
@@ -239,7 +245,7 @@ std::vector<std::vector<int>> BeamBeamInteraction::element_dofs(const solve::Dof
 }
 
 double BeamBeamInteraction::evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k,
-                                          Status& status) {
+                                          Status& status, bool& any_active) {
   const auto [e0, e1] = pairs_[pair];
   const int n0 = static_cast<int>(fiber_[0]->elements[e0].control_points.size());
   const int n1 = static_cast<int>(fiber_[1]->elements[e1].control_points.size());
@@ -277,6 +283,7 @@ double BeamBeamInteraction::evaluate_pair(int pair, bool with_tangent, Eigen::Ve
     out.energy_density = res.energy;
     out.force = -res.gradient.head<3>();
     if (!res.active) continue;
+    any_active = true;
     // Local order [source | target] -> the pair's [fiber 0 | fiber 1].
     const int ns = 4 * static_cast<int>(src_cps.size());
     std::vector<int> map(rp.size());
@@ -313,7 +320,9 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
 #pragma omp for schedule(static)
     for (int p = 0; p < n_pairs; ++p) error.run([&] {
       if (!sink.owns(p) || pair_points_[p].empty()) return;
-      energy += evaluate_pair(p, with_tangent, r, k, pair_status[p]);
+      bool active = false;
+      energy += evaluate_pair(p, with_tangent, r, k, pair_status[p], active);
+      if (!active) return;  // all its points beyond the cut-off: nothing to add
       const int n0 = 4 * static_cast<int>(fiber_[0]->elements[pairs_[p].first].control_points.size());
       for (int j = 0; j < r.size(); j += 4) pair_force[p].segment<3>(j < n0 ? 0 : 3) -= r.segment<3>(j);
       sink.add(p, r, with_tangent ? &k : nullptr);

@@ -15,8 +15,10 @@
 // Pair search: a bounding-volume hierarchy (interaction/box_tree.hpp) over the target fiber's elements
 // (boxes of the current control polygons), refitted at every update. The pattern of pairs (source element,
 // target element) holds every pair whose boxes come within the search distance R_A + R_B + g_c (g_c the
-// law's cut-off; twice the radii when the law has none) plus a margin of the same size, and is rebuilt only
-// when a pair within the search distance is missing from it. A section whose closest point on the other
+// law's cut-off; twice the radii when the law has none) plus a margin of half that, and is rebuilt only
+// when a pair within the search distance is missing from it. The closest point is sought by Newton's
+// method in the candidate elements near the section's centre, nearest box first, skipping elements whose
+// box is farther than the best distance found (branch and bound). A section whose closest point on the other
 // axis is not a stationary point of the distance inside the target's elements (beyond a fiber's end, or,
 // for self-interaction, only in the excluded neighbourhood) does not interact.
 #include <Eigen/Dense>
@@ -82,7 +84,11 @@ class BeamBeamInteraction final : public Contribution {
   bool self() const { return self_; }
 
  private:
-  struct Quad { int element; double xi, weight, s; };
+  struct Quad {
+    int element;
+    double xi, weight, s;
+    Eigen::VectorXd basis;  // shape functions of the element's control points at xi
+  };
   struct Pass { int source, target; };  // fiber indices; one pass (0 -> 1) for self-interaction
   std::string name_;
   std::shared_ptr<const laws::SectionCylinderLaw> law_;
@@ -108,8 +114,10 @@ class BeamBeamInteraction final : public Contribution {
   bool excluded(int point, int target_element) const;  // self-interaction's neighbourhood
   void project(int pass, int point, std::vector<int>& candidates);
   bool collect_pairs();
-  // One pair's residual / tangent in its element's DOF order; returns the energy.
-  double evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k, Status& status);
+  // One pair's residual / tangent in its element's DOF order; returns the energy. `any_active`: set if a
+  // point of the pair lies inside the cut-off.
+  double evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k, Status& status,
+                       bool& any_active);
 };
 
 }  // namespace fibrane::model
