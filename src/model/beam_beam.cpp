@@ -175,75 +175,6 @@ bool BeamBeamInteraction::update(const State& state) {
   return collect_pairs();
 }
 
-bool BeamBeamInteraction::collect_pairs() {
-  // Element pairs (fiber 0, fiber 1) within `distance`, self-interaction's excluded ones left out.
-  auto near = [&](double distance) {
-    std::vector<std::pair<int, int>> found;
-    // Self-interaction: a source element e0 may use e1 if they share no control point and e0's farthest
-    // point is at least the exclusion length from e1 along the fiber.
-    auto keep = [&](int e0, int e1) {
-      const auto& a = fiber_[0]->elements[e0].control_points;
-      for (int cp : fiber_[0]->elements[e1].control_points)
-        if (std::find(a.begin(), a.end(), cp) != a.end()) return false;
-      const auto& s = element_start_[0];
-      const double gap = std::max(s[e1] - s[e0 + 1], s[e0] - s[e1 + 1]);
-      return gap + (s[e0 + 1] - s[e0]) >= exclusion_;
-    };
-    // tree_[1] is a tree of its own also for self-interaction: every ordered pair is visited.
-    tree_[0].near_pairs(tree_[1], distance, [&](int e0, int e1) {
-      if (!self_ || keep(e0, e1)) found.emplace_back(e0, e1);
-    });
-    return found;
-  };
-  std::vector<std::pair<int, int>> required = near(search_distance());
-  for (std::size_t p = 0; p < passes_.size(); ++p) {
-    const int source = passes_[p].source;
-    for (std::size_t i = 0; i < quad_[source].size(); ++i) {
-      const int t = target_element_[source][i];
-      if (t < 0) continue;
-      const int e = quad_[source][i].element;
-      required.push_back(source == 0 ? std::make_pair(e, t) : std::make_pair(t, e));
-    }
-  }
-  std::sort(required.begin(), required.end());
-  required.erase(std::unique(required.begin(), required.end()), required.end());
-  bool changed = false;
-  for (const auto& key : required)
-    if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
-  if (changed) {  // a margin of half the search distance keeps the pattern while the fibers move
-    pairs_ = near(1.5 * search_distance());
-    pairs_.insert(pairs_.end(), required.begin(), required.end());
-    std::sort(pairs_.begin(), pairs_.end());
-    pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
-  }
-  pair_points_.assign(pairs_.size(), {});
-  for (int p = 0; p < static_cast<int>(passes_.size()); ++p) {
-    const int source = passes_[p].source;
-    for (int i = 0; i < static_cast<int>(quad_[source].size()); ++i) {
-      const int t = target_element_[source][i];
-      if (t < 0) continue;
-      const int e = quad_[source][i].element;
-      const auto key = source == 0 ? std::make_pair(e, t) : std::make_pair(t, e);
-      pair_points_[std::lower_bound(pairs_.begin(), pairs_.end(), key) - pairs_.begin()].emplace_back(p, i);
-    }
-  }
-  return changed;
-}
-
-std::vector<std::vector<int>> BeamBeamInteraction::element_dofs(const solve::DofMap& dofs) const {
-  std::vector<std::vector<int>> out;
-  for (const auto& [e0, e1] : pairs_) {
-    std::vector<int> d;
-    for (int f = 0; f < 2; ++f) {
-      const BeamBody& body = *fiber_[f];
-      for (int cp : body.elements[f == 0 ? e0 : e1].control_points)
-        for (int c = 0; c < 4; ++c) d.push_back(dofs.dof(body.block, cp, c));
-    }
-    out.push_back(std::move(d));
-  }
-  return out;
-}
-
 double BeamBeamInteraction::evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k,
                                           Status& status, bool& any_active) {
   const auto [e0, e1] = pairs_[pair];
@@ -304,9 +235,9 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
   for (int f = 0; f < 2; ++f)
     for (auto& p : points_[f]) {
       p.active = false;
-      p.energy_density = 0;
+      p.energy_density = p.gap = 0;
       p.force.setZero();
-      if (!p.found) p.gap = p.distance = 0;
+      if (!p.found) p.distance = 0;
     }
   std::vector<Eigen::Matrix<double, 6, 1>> pair_force(pairs_.size(), Eigen::Matrix<double, 6, 1>::Zero());
   std::vector<Status> pair_status(pairs_.size());
@@ -348,7 +279,7 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
         data.push_back(p.active ? 1.0 : 0.0);
         data.push_back(p.energy_density);
         for (int c = 0; c < 3; ++c) data.push_back(p.force[c]);
-        data.push_back(p.active ? p.gap : 0.0);
+        data.push_back(p.gap);
       }
     sink.sum(data);
     std::size_t at = 0;
@@ -360,8 +291,7 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
         p.active = data[at++] > 0.5;
         p.energy_density = data[at++];
         for (int c = 0; c < 3; ++c) p.force[c] = data[at++];
-        const double gap = data[at++];
-        if (p.active) p.gap = gap;
+        p.gap = data[at++];
       }
   }
   return sum.total();
