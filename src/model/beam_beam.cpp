@@ -66,6 +66,7 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
     warm_[f].assign(quad_[f].size(), kNone);
     accepted_[f] = warm_[f];
     target_element_[f].assign(quad_[f].size(), -1);
+    in_pair_[f].assign(quad_[f].size(), 0);
     points_[f].resize(quad_[f].size());
     for (std::size_t i = 0; i < quad_[f].size(); ++i) {
       points_[f][i].xi = quad_[f][i].xi;
@@ -233,11 +234,12 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
   const bool with_tangent = sink.with_tangent();
   const int n_pairs = static_cast<int>(pairs_.size());
   for (int f = 0; f < 2; ++f)
-    for (auto& p : points_[f]) {
+    for (std::size_t i = 0; i < points_[f].size(); ++i) {
+      FiberPoint& p = points_[f][i];
       p.active = false;
-      p.energy_density = p.gap = 0;
+      p.energy_density = 0;
       p.force.setZero();
-      if (!p.found) p.distance = 0;
+      if (in_pair_[f][i]) p.gap = 0;  // set by the pair's owner
     }
   std::vector<Eigen::Matrix<double, 6, 1>> pair_force(pairs_.size(), Eigen::Matrix<double, 6, 1>::Zero());
   std::vector<Status> pair_status(pairs_.size());
@@ -275,7 +277,9 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
     for (int f = 0; f < 2; ++f)
       for (int c = 0; c < 3; ++c) data.push_back(force_[f][c]);
     for (int f = 0; f < 2; ++f)
-      for (const auto& p : points_[f]) {
+      for (std::size_t i = 0; i < points_[f].size(); ++i) {
+        const FiberPoint& p = points_[f][i];
+        if (!in_pair_[f][i]) continue;
         data.push_back(p.active ? 1.0 : 0.0);
         data.push_back(p.energy_density);
         for (int c = 0; c < 3; ++c) data.push_back(p.force[c]);
@@ -287,7 +291,9 @@ double BeamBeamInteraction::evaluate(const State& /*state*/, ElementSink& sink, 
     for (int f = 0; f < 2; ++f)
       for (int c = 0; c < 3; ++c) force_[f][c] = data[at++];
     for (int f = 0; f < 2; ++f)
-      for (auto& p : points_[f]) {
+      for (std::size_t i = 0; i < points_[f].size(); ++i) {
+        FiberPoint& p = points_[f][i];
+        if (!in_pair_[f][i]) continue;
         p.active = data[at++] > 0.5;
         p.energy_density = data[at++];
         for (int c = 0; c < 3; ++c) p.force[c] = data[at++];

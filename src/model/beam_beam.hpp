@@ -13,12 +13,12 @@
 // than `exclusion` (reference arc length) from the section and sharing no control point with its element.
 //
 // Pair search: a bounding-volume hierarchy (interaction/box_tree.hpp) over the target fiber's elements
-// (boxes of the current control polygons), refitted at every update. The pattern of pairs (source element,
-// target element) holds every pair whose boxes come within the search distance R_A + R_B + g_c (g_c the
-// law's cut-off; twice the radii when the law has none) plus a margin of half that, and is rebuilt only
-// when a pair within the search distance is missing from it. The closest point is sought by Newton's
-// method in the candidate elements near the section's centre, nearest box first, skipping elements whose
-// box is farther than the best distance found (branch and bound). A section whose closest point on the other
+// (boxes of the current control polygons), refitted at every update, gives the candidate elements within
+// R_A + R_B + g_c of a section's centre (g_c the law's cut-off; twice the radii when the law has none).
+// The closest point is sought by Newton's method in them, nearest box first, skipping elements whose
+// box is farther than the best distance found (branch and bound). The pattern of pairs (source element,
+// target element) holds the pairs of the points that may interact (gap bound below the cut-off) and the
+// pairs with the neighbouring elements of either, and is rebuilt only when such a point's pair is missing. A section whose closest point on the other
 // axis is not a stationary point of the distance inside the target's elements (beyond a fiber's end, or,
 // for self-interaction, only in the excluded neighbourhood) does not interact.
 #include <Eigen/Dense>
@@ -103,6 +103,7 @@ class BeamBeamInteraction final : public Contribution {
   interaction::BoxTree tree_[2];
   std::vector<double> warm_[2], accepted_[2];  // closest-point parameters per point (NaN: none)
   std::vector<int> target_element_[2];         // per point: the target element holding its closest point, or -1
+  std::vector<char> in_pair_[2];               // per point: evaluated in a pair (it may be within the cut-off)
   std::vector<std::pair<int, int>> pairs_;     // (element of fiber 0, element of fiber 1), sorted
   std::vector<std::vector<std::pair<int, int>>> pair_points_;  // per pair: (pass, point)
   std::vector<FiberPoint> points_[2];
@@ -114,6 +115,7 @@ class BeamBeamInteraction final : public Contribution {
   bool excluded(int point, int target_element) const;  // self-interaction's neighbourhood
   void project(int pass, int point, std::vector<int>& candidates);
   bool collect_pairs();
+  bool keep_pair(int e0, int e1) const;  // a valid pair; self-interaction's excluded ones are not
   // One pair's residual / tangent in its element's DOF order; returns the energy. `any_active`: set if a
   // point of the pair lies inside the cut-off.
   double evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k, Status& status,

@@ -10,33 +10,34 @@
 
 namespace fibrane::model {
 
+bool BeamBeamInteraction::keep_pair(int e0, int e1) const {
+  if (e0 < 0 || e1 < 0 || e0 >= static_cast<int>(fiber_[0]->elements.size()) ||
+      e1 >= static_cast<int>(fiber_[1]->elements.size()))
+    return false;
+  if (!self_) return true;
+  // Self-interaction: a source element e0 may use e1 if they share no control point and e0's farthest
+  // point is at least the exclusion length from e1 along the fiber.
+  const auto& a = fiber_[0]->elements[e0].control_points;
+  for (int cp : fiber_[0]->elements[e1].control_points)
+    if (std::find(a.begin(), a.end(), cp) != a.end()) return false;
+  const auto& s = element_start_[0];
+  const double gap = std::max(s[e1] - s[e0 + 1], s[e0] - s[e1 + 1]);
+  return gap + (s[e0 + 1] - s[e0]) >= exclusion_;
+}
+
 bool BeamBeamInteraction::collect_pairs() {
-  // Element pairs (fiber 0, fiber 1) within `distance`, self-interaction's excluded ones left out.
-  auto near = [&](double distance) {
-    std::vector<std::pair<int, int>> found;
-    // Self-interaction: a source element e0 may use e1 if they share no control point and e0's farthest
-    // point is at least the exclusion length from e1 along the fiber.
-    auto keep = [&](int e0, int e1) {
-      const auto& a = fiber_[0]->elements[e0].control_points;
-      for (int cp : fiber_[0]->elements[e1].control_points)
-        if (std::find(a.begin(), a.end(), cp) != a.end()) return false;
-      const auto& s = element_start_[0];
-      const double gap = std::max(s[e1] - s[e0 + 1], s[e0] - s[e1 + 1]);
-      return gap + (s[e0 + 1] - s[e0]) >= exclusion_;
-    };
-    // tree_[1] is a tree of its own also for self-interaction: every ordered pair is visited.
-    tree_[0].near_pairs(tree_[1], distance, [&](int e0, int e1) {
-      if (!self_ || keep(e0, e1)) found.emplace_back(e0, e1);
-    });
-    return found;
-  };
-  std::vector<std::pair<int, int>> required = near(search_distance());
-  for (std::size_t p = 0; p < passes_.size(); ++p) {
+  // The pairs of the points that may interact: a closest point was found and the lower bound of the gap,
+  // axis distance - R_A - R_B, is below the cut-off. The others keep that bound as their gap.
+  const double reach = law_->radius_a() + law_->radius_b() + law_->cutoff_gap();
+  std::vector<std::pair<int, int>> required;
+  for (int p = 0; p < static_cast<int>(passes_.size()); ++p) {
     const int source = passes_[p].source;
     for (std::size_t i = 0; i < quad_[source].size(); ++i) {
-      const int t = target_element_[source][i];
-      if (t < 0) continue;
-      const int e = quad_[source][i].element;
+      FiberPoint& point = points_[source][i];
+      in_pair_[source][i] = point.found && point.distance < reach;
+      if (point.found && !in_pair_[source][i]) point.gap = point.distance - law_->radius_a() - law_->radius_b();
+      if (!in_pair_[source][i]) continue;
+      const int t = target_element_[source][i], e = quad_[source][i].element;
       required.push_back(source == 0 ? std::make_pair(e, t) : std::make_pair(t, e));
     }
   }
@@ -45,8 +46,14 @@ bool BeamBeamInteraction::collect_pairs() {
   bool changed = false;
   for (const auto& key : required)
     if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
-  if (changed) {  // a margin of half the search distance keeps the pattern while the fibers move
-    pairs_ = near(1.5 * search_distance());
+  if (changed) {
+    // A margin of the target's neighbouring elements (on both fibers) keeps the pattern while closest
+    // points slide along the other fiber.
+    pairs_.clear();
+    for (const auto& [e0, e1] : required)
+      for (int d0 = -1; d0 <= 1; ++d0)
+        for (int d1 = -1; d1 <= 1; ++d1)
+          if ((d0 == 0 || d1 == 0) && keep_pair(e0 + d0, e1 + d1)) pairs_.emplace_back(e0 + d0, e1 + d1);
     pairs_.insert(pairs_.end(), required.begin(), required.end());
     std::sort(pairs_.begin(), pairs_.end());
     pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
@@ -55,9 +62,8 @@ bool BeamBeamInteraction::collect_pairs() {
   for (int p = 0; p < static_cast<int>(passes_.size()); ++p) {
     const int source = passes_[p].source;
     for (int i = 0; i < static_cast<int>(quad_[source].size()); ++i) {
-      const int t = target_element_[source][i];
-      if (t < 0) continue;
-      const int e = quad_[source][i].element;
+      if (!in_pair_[source][i]) continue;
+      const int t = target_element_[source][i], e = quad_[source][i].element;
       const auto key = source == 0 ? std::make_pair(e, t) : std::make_pair(t, e);
       pair_points_[std::lower_bound(pairs_.begin(), pairs_.end(), key) - pairs_.begin()].emplace_back(p, i);
     }
