@@ -1,14 +1,17 @@
 // Cost of the fiber-fiber pair search and of the beam-beam interaction in a model of many fibers:
 // `bench_fibers [fibers = 100] [elements = 50] [evaluations = 5] [--threads N]`.
 //
-// The fibers form a mat of `layers` (10) layers of parallel, slightly wavy cubic fibers (radius 0.1,
-// length 10, 2 cores' worth of work per layer); the layers' directions turn by 18 degrees from one to the
-// next, and the axes of neighbouring layers are 0.22 apart (gap 0.02), so every fiber crosses about ten
-// fibers of each neighbouring layer. Measured:
+// The fibers form a mat of 10 layers of parallel, slightly wavy cubic fibers (radius 0.1, length 10, 1
+// apart within a layer); the layers' directions turn by 18 degrees from one to the next, and the axes of
+// neighbouring layers are 0.22 apart (gap 0.02), so every fiber crosses about ten fibers of each
+// neighbouring layer. The membrane under such a mat is left out (its beam-shell search and SBS kernels are
+// measured by bench_interaction). Lennard-Jones law, sigma = 0.01, cut-off gap 0.2. Measured (OpenMP's
+// thread count unless --threads):
 //   - the global search: a BoxTree over all elements' control-polygon boxes, rebuilt and refitted, and all
 //     element pairs of different fibers within R_A + R_B + g_c (pairs found);
 //   - Model::evaluate with tangent: the beams alone, and with one BeamBeamInteraction registered for every
-//     pair of fibers that has an element pair within the search distance (from the global search).
+//     pair of fibers that has an element pair within the search distance (from the global search);
+//   - one SBIP kernel call (interaction::section_beam) near contact.
 #include <fmt/format.h>
 #include <omp.h>
 
@@ -22,6 +25,7 @@
 #include <vector>
 
 #include "interaction/box_tree.hpp"
+#include "interaction/section_beam.hpp"
 #include "linalg/linear_solver.hpp"
 #include "model/beam_beam.hpp"
 #include "model/beam_body.hpp"
@@ -147,6 +151,20 @@ int main(int argc, char** argv) {
     pattern += bb->pattern_pairs();
     gap = std::min(gap, bb->minimum_gap());
   }
+  // One SBIP point (energy, gradient and Hessian in its 15 local variables) near contact.
+  interaction::SectionBeamPoint point;
+  point.x = {0.01, 0.02, 2 * kRadius + 0.02};
+  point.x_xi = {1, 0.1, 0.02};
+  point.r[1] = {0.1, 1, 0};
+  point.r[2] = {0.01, 0.02, 0.03};
+  double checksum = 0;
+  const int kernel_calls = 20000;
+  t0 = Clock::now();
+  for (int i = 0; i < kernel_calls; ++i) {
+    point.x[0] = 0.01 + 1e-9 * i;
+    checksum += interaction::section_beam(*law, point).energy;
+  }
+  const double kernel = seconds_since(t0) / kernel_calls;
   fmt::print("fibers {} x {} elements (cubic), {} DOFs, threads {}\n", n_fibers, n_elements, m.size(),
              threads > 0 ? threads : omp_get_max_threads());
   fmt::print("global search: {} element boxes, tree built in {:.3f} ms; refit + pair query {:.3f} ms; "
@@ -158,6 +176,7 @@ int main(int argc, char** argv) {
   fmt::print("Model::evaluate with tangent: beams alone {:.1f} ms, with the interactions {:.1f} ms "
              "(interactions {:.1f} ms per evaluation)\n",
              1e3 * t_beams, 1e3 * t_all, 1e3 * (t_all - t_beams));
+  fmt::print("one SBIP point with gradient and Hessian: {:.1f} us (checksum {:.3g})\n", 1e6 * kernel, checksum);
   const double n = times.evaluations;
   fmt::print("per evaluation: closest points and patterns (update) {:.1f} ms, beam assembly {:.1f} ms, "
              "interaction assembly and the rest {:.1f} ms\n",
