@@ -8,6 +8,7 @@
 
 #include "common/error.hpp"
 #include "laws/section_cylinder.hpp"
+#include "laws/section_law_registry.hpp"
 
 namespace fibrane::laws {
 namespace {
@@ -62,6 +63,31 @@ TEST(SectionCylinderLaw, RejectsParametersOutsideItsDomain) {
   const SectionCylinderLaw lj = SectionCylinderLaw::lennard_jones(1.0, 0.1, 0.3, 0.2);
   EXPECT_EQ(lj.terms().size(), 2u);
   EXPECT_EQ(lj.swapped().radius_a(), 0.2);
+}
+
+TEST(SectionLawRegistry, BuildsTheLawsByNameAndRejectsBadKeys) {
+  const SectionGeometry g{0.3, 0.2};
+  const MapParameters lj("case.yaml: law", {{"epsilon", 2.0}, {"sigma", 0.1}, {"regularization", 0.01},
+                                            {"cutoff", 0.5}, {"strength", 3.0}});
+  const auto law = section_law_registry().make("lennard_jones", lj, g);
+  const SectionCylinderLaw expected = SectionCylinderLaw::lennard_jones(2.0, 0.1, 0.3, 0.2, 3.0, 0.01, 0.5);
+  for (double gap : {0.005, 0.05, 0.3}) EXPECT_DOUBLE_EQ(law->evaluate(gap).f, expected.evaluate(gap).f);
+  const MapParameters sum("case.yaml: law", {}, {{"terms", {MapParameters("t", {{"exponent", 6}, {"coefficient", -1}}),
+                                                           MapParameters("t", {{"exponent", 9}, {"coefficient", 1e-3}})}}});
+  EXPECT_EQ(section_law_registry().make("inverse_power_sum", sum, g)->terms().size(), 2u);
+  const MapParameters low("case.yaml: law", {{"exponent", 4}, {"coefficient", -1}});
+  EXPECT_THROW(section_law_registry().make("inverse_power", low, g), InputError);
+  const MapParameters typo("case.yaml: law", {{"epsilon", 2.0}, {"sigma", 0.1}, {"cutof", 0.5}});
+  EXPECT_THROW(section_law_registry().make("lennard_jones", typo, g), InputError);
+  EXPECT_THROW(section_law_registry().make("morse", lj, g), InputError);
+  // A new law through the registry alone: a pure steric term with its own key.
+  section_law_registry().add("steric_test", "k r^-12", [](const Parameters& p, const SectionGeometry& geometry) {
+    p.reject_unknown({"k"});
+    return std::make_shared<const SectionCylinderLaw>(std::vector<InversePowerTerm>{{12, p.positive("k")}},
+                                                      geometry.radius_a, geometry.radius_b);
+  });
+  const auto steric = section_law_registry().make("steric_test", MapParameters("t", {{"k", 1e-6}}), g);
+  EXPECT_GT(steric->evaluate(0.1).f, 0.0);
 }
 
 }  // namespace
