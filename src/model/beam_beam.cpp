@@ -11,6 +11,7 @@
 #include "linalg/dof_map.hpp"
 #include "model/beam_body.hpp"
 #include "model/ordered_sum.hpp"
+#include "model/saved_state.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::model {
@@ -339,19 +340,42 @@ void BeamBeamInteraction::reject() {
 }
 
 std::vector<double> BeamBeamInteraction::save_state() const {
-  std::vector<double> out = accepted_[0];
-  out.insert(out.end(), accepted_[1].begin(), accepted_[1].end());
-  return out;
+  StateWriter w;
+  for (int f = 0; f < 2; ++f) {
+    w.add(static_cast<double>(accepted_[f].size()));
+    for (double xi : accepted_[f]) w.add(xi);
+  }
+  w.add(static_cast<double>(pairs_.size()));
+  for (const auto& [e0, e1] : pairs_) {
+    w.add(static_cast<double>(e0));
+    w.add(static_cast<double>(e1));
+  }
+  return w.take();
 }
 
 void BeamBeamInteraction::restore_state(const std::vector<double>& state) {
-  if (state.size() != accepted_[0].size() + accepted_[1].size())
-    throw InputError("beam-beam interaction '" + name_ + "': the checkpoint's state does not fit this model");
-  const auto middle = state.begin() + static_cast<std::ptrdiff_t>(accepted_[0].size());
-  accepted_[0].assign(state.begin(), middle);
-  accepted_[1].assign(middle, state.end());
-  warm_[0] = accepted_[0];
-  warm_[1] = accepted_[1];
+  StateReader r(state, "interaction '" + name_ + "'");
+  for (int f = 0; f < 2; ++f) {
+    if (r.next_int() != static_cast<int>(accepted_[f].size()))
+      throw InputError("checkpoint: interaction '" + name_ + "' has another number of quadrature points");
+    for (double& xi : accepted_[f]) xi = r.next();
+    warm_[f] = accepted_[f];
+  }
+  const int n = r.next_int();
+  if (n < 0) throw InputError("checkpoint: interaction '" + name_ + "' has a negative number of pairs");
+  std::vector<std::pair<int, int>> pairs(static_cast<std::size_t>(n));
+  for (auto& [e0, e1] : pairs) {
+    e0 = r.next_int();
+    e1 = r.next_int();
+    if (e0 < 0 || e1 < 0 || e0 >= static_cast<int>(fiber_[0]->elements.size()) ||
+        e1 >= static_cast<int>(fiber_[1]->elements.size()))
+      throw InputError("checkpoint: interaction '" + name_ + "' has a pair of elements the fibers do not have");
+  }
+  r.finish();
+  if (!std::is_sorted(pairs.begin(), pairs.end()))
+    throw InputError("checkpoint: interaction '" + name_ + "' has unsorted pairs");
+  pairs_ = std::move(pairs);
+  pair_points_.assign(pairs_.size(), {});
 }
 
 }  // namespace fibrane::model

@@ -67,7 +67,7 @@ class BeamBeamInteraction final : public Contribution {
   double evaluate(const State& s, ElementSink& sink, Status& status) override;
   void accept(const State& s) override;
   void reject() override;
-  // The warm starts (closest-point parameters) of the last converged step.
+  // The warm starts (closest-point parameters) of the last converged step and the pair pattern.
   std::vector<double> save_state() const override;
   void restore_state(const std::vector<double>& state) override;
 
