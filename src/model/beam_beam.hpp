@@ -18,9 +18,10 @@
 // The closest point is sought by Newton's method in them, nearest box first, skipping elements whose
 // box is farther than the best distance found (branch and bound). The pattern of pairs (source element,
 // target element) holds the pairs of the points that may interact (gap bound below the cut-off) and the
-// pairs with the neighbouring elements of either, and is rebuilt only when such a point's pair is missing. A section whose closest point on the other
-// axis is not a stationary point of the distance inside the target's elements (beyond a fiber's end, or,
-// for self-interaction, only in the excluded neighbourhood) does not interact.
+// pairs with the neighbouring elements of either, and is rebuilt only when such a point's pair is
+// missing. A section whose closest point on the other axis is not a stationary point of the distance
+// inside the target's elements (beyond a fiber's end, or, for self-interaction, only in the excluded
+// neighbourhood) does not interact.
 #include <Eigen/Dense>
 #include <memory>
 #include <string>
@@ -60,9 +61,9 @@ class BeamBeamInteraction final : public Contribution {
   EnergyKind energy_kind() const override { return EnergyKind::interaction; }
   bool variable() const override { return true; }
   // Refits the element boxes, finds every quadrature point's closest point on the other fiber, and
-  // rebuilds the pattern if a pair within the search distance is missing from it.
+  // rebuilds the pattern if the pair of a point that may interact is missing from it.
   bool update(const State& s) override;
-  // Per pair: the source element's DOFs (x, y, z, twist per control point) followed by the target's.
+  // Per pair: fiber 0's element DOFs (x, y, z, twist per control point) followed by fiber 1's.
   std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
   double evaluate(const State& s, ElementSink& sink, Status& status) override;
   void accept(const State& s) override;
