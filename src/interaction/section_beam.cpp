@@ -4,18 +4,19 @@
 #include <stdexcept>
 
 #include "common/jet.hpp"
+#include "interaction/symmetric_jet.hpp"
 
 namespace fibrane::interaction {
 namespace {
 
-using J = ad::Jet<15>;
+using J = SymmetricJet<15>;
 using V = ad::Vec3<J>;
 
 V variable(const Eigen::Vector3d& v, int first) {
   return {J::variable(v.x(), first), J::variable(v.y(), first + 1), J::variable(v.z(), first + 2)};
 }
 V constant(const Eigen::Vector3d& v) { return {J(v.x()), J(v.y()), J(v.z())}; }
-J norm(const V& v) { return ad::sqrt(ad::dot(v, v)); }
+J norm(const V& v) { return sqrt(ad::dot(v, v)); }
 V scaled(const J& s, const V& v) { return {s * v.x, s * v.y, s * v.z}; }
 
 }  // namespace
@@ -42,7 +43,7 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   const V gap0 = x - r0;
   const J c0 = ad::dot(gap0, r1);
   const J g1 = ad::dot(gap0, r2) - ad::dot(r1, r1);
-  const double g2 = -3 * ad::value(ad::dot(r1, r2)) + ad::value(ad::dot(gap0, r3));
+  const double g2 = -3 * value(ad::dot(r1, r2)) + value(ad::dot(gap0, r3));
   const J delta1 = -(c0 / g1);
   const J delta = -((c0 + 0.5 * g2 * delta1 * delta1) / g1);
   const J half_d2 = 0.5 * delta * delta;
@@ -52,7 +53,7 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   const V ta = scaled(1.0 / norm(x_xi), x_xi);
 
   SectionBeamResult out;
-  out.cos_angle = std::abs(ad::value(ad::dot(ta, tb)));
+  out.cos_angle = std::abs(value(ad::dot(ta, tb)));
   // (S3): distance from B's axis and the in-section direction towards it.
   const V diff = x - xb;
   const V dp = diff - scaled(ad::dot(diff, tb), tb);
@@ -66,7 +67,7 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   const J s2 = 1.0 - c * c;
   if (!(s2.v > 1e-12))
     throw std::domain_error("section-beam: the fiber's tangent points at the other fiber's axis");
-  const V e = scaled(1.0 / ad::sqrt(s2), n - scaled(c, ta));
+  const V e = scaled(1.0 / sqrt(s2), n - scaled(c, ta));
   // (S4): the rim point closest to B's axis and the gap's slope into the section.
   const V pe = e - scaled(ad::dot(e, tb), tb);
   const V v = dp - scaled(J(ra), pe);
@@ -77,7 +78,7 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   // gap's minimum along the rim.
   const J g0 = rho - rb;
   const laws::GapValue gs = law.slope_gap(g0.v);
-  const J bt = b + ad::chain(g0, gs.f, gs.f_g, gs.f_gg) / (2 * ra);
+  const J bt = b + chain(g0, gs.f, gs.f_g, gs.f_gg) / (2 * ra);
   const V tau = ad::cross(ta, e);
   const J tt = ad::dot(tb, tau), nt = ad::dot(nu, tau);
   const J a = bt / (2 * ra) + (1.0 - tt * tt - nt * nt) / (2.0 * rho);
@@ -89,12 +90,12 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   out.gap = g.v;
   if (g.v >= law.cutoff_gap()) return out;
   const laws::GapValue f = law.evaluate(g.v);
-  const J fg = ad::chain(g, f.f, f.f_g, f.f_gg);
-  const J pi = fg / (bt * ad::sqrt(a));  // (S1)
+  const J fg = chain(g, f.f, f.f_g, f.f_gg);
+  const J pi = fg / (bt * sqrt(a));  // (S1)
   out.active = true;
   out.energy = pi.v;
-  out.gradient = pi.g;
-  out.hessian = pi.h;
+  out.gradient = pi.gradient();
+  out.hessian = pi.hessian();
   return out;
 }
 
