@@ -1,0 +1,126 @@
+#pragma once
+// Fiber-fiber van der Waals and steric interaction between two beams (or a beam and itself) by the
+// section-beam interaction potential (interaction/section_beam.hpp, laws/section_cylinder.hpp): at every
+// quadrature point of one fiber its section interacts with the surrogate cylinder of the other fiber at
+// the closest point of the other's axis, and the potential per unit length is integrated along the fiber.
+//
+// Two half passes make the energy symmetric in the fibers:
+//   Pi = 1/2 int_A pi(A's section | B) dS_A + 1/2 int_B pi(B's section | A) dS_B,
+// S the reference arc length (the densities are reference ones, paper Eq. 4). Each pass is differentiated
+// exactly, the closest point's motion included (S7), so the residual is the gradient of Pi and the forces on
+// the two fibers balance (translation invariance). With one fiber (self-interaction, the fiber folding onto
+// itself) there is one pass with the factor 1/2, and the closest point is sought only on elements farther
+// than `exclusion` (reference arc length) from the section and sharing no control point with its element.
+//
+// Pair search: a bounding-volume hierarchy (interaction/box_tree.hpp) over the target fiber's elements
+// (boxes of the current control polygons), refitted at every update, gives the candidate elements within
+// R_A + R_B + g_c of a section's centre (g_c the law's cut-off; twice the radii when the law has none).
+// The closest point is sought by Newton's method in them, nearest box first, skipping elements whose
+// box is farther than the best distance found (branch and bound). The pattern of pairs (source element,
+// target element) holds the pairs of the points that may interact (gap bound below the cut-off) and the
+// pairs with the neighbouring elements of either, and is rebuilt only when such a point's pair is
+// missing. A section whose closest point on the other axis is not a stationary point of the distance
+// inside the target's elements (beyond a fiber's end, or, for self-interaction, only in the excluded
+// neighbourhood) does not interact.
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "interaction/box_tree.hpp"
+#include "laws/section_cylinder.hpp"
+#include "model/contribution.hpp"
+
+namespace fibrane::model {
+
+class BeamBody;
+
+// What one quadrature point of a fiber sees (its own pass), for output.
+struct FiberPoint {
+  double xi = 0, s = 0;  // parameter and reference arc length on its fiber
+  bool active = false;   // inside the cut-off: it interacts
+  bool found = false;    // a closest point on the other fiber was found (gap and distance are meaningful)
+  double gap = 0, distance = 0, energy_density = 0;  // g (S6), axis distance, pi (S1) per unit length
+  double target_xi = 0;                              // the closest point's parameter on the other fiber
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  // -d pi / d x: the force per unit length on this section from its pass (the half pass's factor 1/2
+  // not applied).
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+};
+
+// A model::Contribution between two BeamBody objects (or one with itself); see the file comment.
+class BeamBeamInteraction final : public Contribution {
+ public:
+  // `b` may be `a` (self-interaction, needs exclusion > 0). Throws std::invalid_argument if a fiber has no
+  // circular section radius matching the law's, or self-interaction without exclusion.
+  BeamBeamInteraction(std::string name, std::shared_ptr<const laws::SectionCylinderLaw> law, const BeamBody& a,
+                      const BeamBody& b, double exclusion = 0);
+
+  std::string name() const override { return name_; }
+  EnergyKind energy_kind() const override { return EnergyKind::interaction; }
+  bool variable() const override { return true; }
+  // Refits the element boxes, finds every quadrature point's closest point on the other fiber, and
+  // rebuilds the pattern if the pair of a point that may interact is missing from it.
+  bool update(const State& s) override;
+  // Per pair: fiber 0's element DOFs (x, y, z, twist per control point) followed by fiber 1's.
+  std::vector<std::vector<int>> element_dofs(const solve::DofMap& dofs) const override;
+  double evaluate(const State& s, ElementSink& sink, Status& status) override;
+  void accept(const State& s) override;
+  void reject() override;
+  // The warm starts (closest-point parameters) of the last converged step and the pair pattern.
+  std::vector<double> save_state() const override;
+  void restore_state(const std::vector<double>& state) override;
+
+  // Observables of the last evaluation.
+  double energy() const { return energy_; }
+  // Total force on fiber 0 (a) and 1 (b): minus the sum of the residual over the fiber's translations.
+  Eigen::Vector3d force_on(int fiber) const { return force_[fiber]; }
+  int interacting_points() const;  // quadrature points inside the cut-off, both passes
+  int interacting_pairs() const;   // element pairs with at least one such point
+  double minimum_gap() const;      // over the points whose closest point was found (+inf if none)
+  // Per quadrature point of fiber 0 / 1 (fiber 1's is empty for self-interaction).
+  const std::vector<FiberPoint>& points(int fiber) const { return points_[fiber]; }
+  int pattern_pairs() const { return static_cast<int>(pairs_.size()); }
+  bool self() const { return self_; }
+
+ private:
+  struct Quad {
+    int element;
+    double xi, weight, s;
+    Eigen::VectorXd basis;  // shape functions of the element's control points at xi
+  };
+  struct Pass { int source, target; };  // fiber indices; one pass (0 -> 1) for self-interaction
+  std::string name_;
+  std::shared_ptr<const laws::SectionCylinderLaw> law_;
+  laws::SectionCylinderLaw swapped_;  // the law with the radii exchanged: fiber 1's sections against fiber 0
+  const BeamBody* fiber_[2];
+  bool self_;
+  double exclusion_;
+  std::vector<Pass> passes_;
+  std::vector<Quad> quad_[2];
+  std::vector<double> element_start_[2];  // reference arc length at each element's start (and the end)
+  std::vector<Eigen::Vector3d> cps_[2];   // current control points
+  interaction::BoxTree tree_[2];
+  std::vector<double> warm_[2], accepted_[2];  // closest-point parameters per point (NaN: none)
+  std::vector<int> target_element_[2];         // per point: the target element holding its closest point, or -1
+  std::vector<char> in_pair_[2];               // per point: evaluated in a pair (it may be within the cut-off)
+  std::vector<std::pair<int, int>> pairs_;     // (element of fiber 0, element of fiber 1), sorted
+  std::vector<std::vector<std::pair<int, int>>> pair_points_;  // per pair: (pass, point)
+  std::vector<FiberPoint> points_[2];
+  double energy_ = 0;
+  Eigen::Vector3d force_[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+
+  double search_distance() const;
+  std::vector<Eigen::AlignedBox3d> element_boxes(int fiber) const;
+  bool excluded(int point, int target_element) const;  // self-interaction's neighbourhood
+  void project(int pass, int point, std::vector<int>& candidates);
+  bool collect_pairs();
+  bool keep_pair(int e0, int e1) const;  // a valid pair; self-interaction's excluded ones are not
+  // One pair's residual / tangent in its element's DOF order; returns the energy. `any_active`: set if a
+  // point of the pair lies inside the cut-off.
+  double evaluate_pair(int pair, bool with_tangent, Eigen::VectorXd& r, Eigen::MatrixXd& k, Status& status,
+                       bool& any_active);
+};
+
+}  // namespace fibrane::model
