@@ -29,7 +29,10 @@ std::vector<std::pair<std::string, io::VtuMesh>> series_meshes(const casefile::C
     if (o.bezier) out.emplace_back(b.name(), beam_bezier_vtu(m, b));
     if (o.sampled) out.emplace_back(b.name() + sampled, beam_vtu(m, b, o.samples));
   }
-  for (const auto& k : m.couplings) out.emplace_back(k.name(), coupling_vtu(k));
+  for (const auto& i : m.interactions()) {
+    const auto series = i->point_series();
+    for (std::size_t n = 0; n < series.size(); ++n) out.emplace_back(series[n].name, point_cloud_vtu(i->point_cloud(n)));
+  }
   return out;
 }
 
@@ -43,7 +46,8 @@ std::vector<std::string> series_names(const casefile::Case& c) {
   };
   for (const auto& s : c.model->shells) body(s.name());
   for (const auto& b : c.model->beams) body(b.name());
-  for (const auto& k : c.model->couplings) names.push_back(k.name());
+  for (const auto& i : c.model->interactions())
+    for (const auto& p : i->point_series()) names.push_back(p.name);
   return names;
 }
 
