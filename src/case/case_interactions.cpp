@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "case/case_beam_beam.hpp"
 #include "case/case_limits.hpp"
 #include "case/case_sbs.hpp"
 
@@ -48,6 +49,8 @@ InteractionKinds& interaction_kinds() {
     InteractionKinds k;
     k.add({"sbs", "beam-shell van der Waals coupling by the surrogate beam-shell model (Sec. 5)",
            {{BodyKind::beam, BodyKind::shell}}, {"soft_minimum_points"}, make_sbs});
+    k.add({"beam_beam", "fiber-fiber van der Waals and steric interaction by the section-beam potential",
+           {{BodyKind::beam, BodyKind::beam}}, {}, make_beam_beam});
     return k;
   }();
   return kinds;

@@ -72,6 +72,7 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
     for (std::size_t i = 0; i < quad_[f].size(); ++i) {
       points_[f][i].xi = quad_[f][i].xi;
       points_[f][i].s = quad_[f][i].s;
+      points_[f][i].weight = quad_[f][i].weight;
     }
   }
 }

@@ -30,7 +30,7 @@
 
 #include "interaction/box_tree.hpp"
 #include "laws/section_cylinder.hpp"
-#include "model/contribution.hpp"
+#include "model/interaction.hpp"
 
 namespace fibrane::model {
 
@@ -43,14 +43,16 @@ struct FiberPoint {
   bool found = false;    // a closest point on the other fiber was found (gap and distance are meaningful)
   double gap = 0, distance = 0, energy_density = 0;  // g (S6), axis distance, pi (S1) per unit length
   double target_xi = 0;                              // the closest point's parameter on the other fiber
+  double weight = 0;  // its quadrature weight: its share of the energy is weight * energy_density
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   // -d pi / d x: the force per unit length on this section from its pass (the half pass's factor 1/2
   // not applied).
   Eigen::Vector3d force = Eigen::Vector3d::Zero();
 };
 
-// A model::Contribution between two BeamBody objects (or one with itself); see the file comment.
-class BeamBeamInteraction final : public Contribution {
+// A model::Interaction between two BeamBody objects (or one with itself); see the file comment. What it
+// reports through the Interaction interface is written in beam_beam_output.cpp.
+class BeamBeamInteraction final : public Interaction {
  public:
   // `b` may be `a` (self-interaction, needs exclusion > 0). Throws std::invalid_argument if a fiber has no
   // circular section radius matching the law's, or self-interaction without exclusion.
@@ -58,7 +60,6 @@ class BeamBeamInteraction final : public Contribution {
                       const BeamBody& b, double exclusion = 0);
 
   std::string name() const override { return name_; }
-  EnergyKind energy_kind() const override { return EnergyKind::interaction; }
   bool variable() const override { return true; }
   // Refits the element boxes, finds every quadrature point's closest point on the other fiber, and
   // rebuilds the pattern if the pair of a point that may interact is missing from it.
@@ -83,6 +84,20 @@ class BeamBeamInteraction final : public Contribution {
   const std::vector<FiberPoint>& points(int fiber) const { return points_[fiber]; }
   int pattern_pairs() const { return static_cast<int>(pairs_.size()); }
   bool self() const { return self_; }
+  const BeamBody& fiber(int f) const { return *fiber_[f]; }
+
+  // Interaction (beam_beam_output.cpp). Quantities: energy, force_<a>_x/y/z and force_<b>_x/y/z (force_on,
+  // <a>, <b> the fibers' names; none for self-interaction), interacting_pairs, interacting_points,
+  // minimum_gap. One point series per fiber, <name>_<fiber> (<name> for self-interaction), each with a
+  // table: the quadrature points with a closest point on the other fiber (VTK), all points (table). The
+  // record reports the final quantities and the smallest gap of the run with its step.
+  std::pair<std::string, std::string> bodies() const override;
+  std::vector<std::string> quantity_names() const override;
+  double quantity(std::size_t k) const override;
+  std::vector<PointSeries> point_series() const override;
+  PointCloud point_cloud(std::size_t series) const override;
+  PointTable point_table(std::size_t series) const override;
+  std::unique_ptr<RunRecord> run_record() const override;
 
  private:
   struct Quad {

@@ -228,9 +228,11 @@ TEST(InteractionExtension, UnknownKindsAndBodiesAreLocatedErrors) {
                    "(left, right)"),
             std::string::npos)
       << e;
-  e = read_error("interaction-no-default", two_beams("{between: [left, right]}"));
+  std::string shell_shell = beam_over_panel_case("");
+  shell_shell.replace(shell_shell.find("beam: fiber, shell: panel"), 25, "between: [panel, panel]");
+  e = read_error("interaction-no-default", shell_shell);
   EXPECT_NE(e.find("interactions[0].between"), std::string::npos) << e;
-  EXPECT_NE(e.find("no interaction kind is the default for a beam and a beam"), std::string::npos) << e;
+  EXPECT_NE(e.find("no interaction kind is the default for a shell and a shell"), std::string::npos) << e;
   e = read_error("interaction-unknown-key",
                  two_beams("{between: [left, right], kind: test_end_spring, stiffness: 1, stifness: 2}"));
   EXPECT_NE(e.find("interactions[0]"), std::string::npos) << e;
