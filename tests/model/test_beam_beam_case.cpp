@@ -4,6 +4,7 @@
 // its record a member of summary.json; the case reader rejects its bad keys with located errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <regex>
 
@@ -110,6 +111,37 @@ TEST(BeamBeamCase, CrossedFibersPressedAndPulledReportBalancedForcesAndTheirPoin
       << summary;
   EXPECT_NEAR(std::stod(m[1]), h.at("cross_minimum_gap")[5], 1e-15);
   EXPECT_NE(summary.find("\"final_force_lower_z\""), std::string::npos);
+}
+
+// examples/crossed-fibers.yaml: arc-length continuation passes the pull-off limit point (t turns back,
+// one negative eigenvalue on the unstable branch) and the second limit point, and ends with the fibers
+// apart; along the whole path the upper fiber's held ends carry the interaction's force on it.
+TEST(BeamBeamCase, CrossedFibersExamplePassesPullOff) {
+  const CaseRun r = run_yaml("beam-beam-crossed-example", example_text("crossed-fibers.yaml"));
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
+  const auto& h = r.history;
+  const auto& t = h.at("t");
+  const auto& f = h.at("reaction_z");
+  std::size_t limits = 0, unstable = 0, turn = 0;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    limits += h.at("limit_point")[i] > 0.5;
+    unstable += h.at("negative_eigenvalues")[i] > 0.5;
+    if (turn == 0 && t[i] < t[i - 1]) turn = i;
+    const double scale = std::max(1.0, std::abs(f[i]));
+    EXPECT_NEAR(f[i] + h.at("cross_force_upper_z")[i], 0.0, 1e-6 * scale) << "step " << i;
+    EXPECT_NEAR(h.at("cross_force_lower_z")[i] + h.at("cross_force_upper_z")[i], 0.0, 1e-10 * scale) << "step " << i;
+  }
+  EXPECT_EQ(limits, 2u);
+  EXPECT_GT(unstable, 0u);
+  ASSERT_GT(turn, 1u) << "t never turns back: no pull-off limit point";
+  // The pull-off force is the largest force of the path, at the limit point.
+  const auto peak = std::max_element(f.begin(), f.end()) - f.begin();
+  EXPECT_LE(std::abs(static_cast<long>(peak) - static_cast<long>(turn - 1)), 1);
+  EXPECT_GT(f[static_cast<std::size_t>(peak)], 0.0);
+  // At the end the fibers are apart, beyond the cut-off.
+  EXPECT_EQ(h.at("cross_energy").back(), 0.0);
+  EXPECT_EQ(h.at("cross_interacting_points").back(), 0.0);
+  EXPECT_NEAR(t.back(), 0.3, 1e-12);
 }
 
 // beam_beam is the default kind for two beams, and the entry's law becomes the interaction's.
