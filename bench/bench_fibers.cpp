@@ -1,11 +1,12 @@
 // Cost of the fiber-fiber pair search and of the beam-beam interaction in a model of many fibers:
-// `bench_fibers [fibers = 100] [elements = 50] [evaluations = 5] [--threads N]`.
+// `bench_fibers [fibers = 100] [elements = 50] [evaluations = 5] [--threads N] [--membrane]`.
 //
 // The fibers form a mat of 10 layers of parallel, slightly wavy cubic fibers (radius 0.1, length 10, 1
 // apart within a layer); the layers' directions turn by 18 degrees from one to the next, and the axes of
 // neighbouring layers are 0.22 apart (gap 0.02), so every fiber crosses about ten fibers of each
-// neighbouring layer. The membrane under such a mat is left out (its beam-shell search and SBS kernels are
-// measured by bench_interaction). Lennard-Jones law, sigma = 0.01, cut-off gap 0.2. Measured (OpenMP's
+// neighbouring layer. With --membrane the mat lies on a membrane: a flat quadratic C1 shell (16 x 16,
+// thickness 0.1, 32 x 32 elements) 0.05 under the lowest layer, with one SBS coupling (RF2, Lennard-Jones
+// disk-plate law, sigma = 0.01) per fiber; the beams' row then includes the shell. Lennard-Jones law, sigma = 0.01, cut-off gap 0.2. Measured (OpenMP's
 // thread count unless --threads):
 //   - the global search: a BoxTree over all elements' control-polygon boxes, rebuilt and refitted, and all
 //     element pairs of different fibers within R_A + R_B + g_c (pairs found);
@@ -16,6 +17,7 @@
 #include <omp.h>
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <memory>
@@ -28,7 +30,11 @@
 #include "interaction/section_beam.hpp"
 #include "linalg/linear_solver.hpp"
 #include "model/beam_beam.hpp"
+#include "laws/lennard_jones.hpp"
 #include "model/beam_body.hpp"
+#include "model/coupling.hpp"
+#include "model/shell_body.hpp"
+#include "spline/shapes.hpp"
 #include "model/model.hpp"
 #include "spline/curve.hpp"
 #include "spline/knot_vector.hpp"
@@ -76,6 +82,11 @@ std::vector<Eigen::AlignedBox3d> element_boxes(const model::BeamBody& b) {
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   int threads = 0;
+  bool membrane = false;
+  if (const auto it = std::find(args.begin(), args.end(), "--membrane"); it != args.end()) {
+    membrane = true;
+    args.erase(it);
+  }
   for (std::size_t i = 0; i + 1 < args.size(); ++i)
     if (args[i] == "--threads") {
       threads = std::atoi(args[i + 1].c_str());
@@ -94,6 +105,29 @@ int main(int argc, char** argv) {
   for (int i = 0; i < n_fibers; ++i) {
     beams_only.add_beam(fiber(i, layers, per_layer, n_elements));
     fibers.push_back(&m.add_beam(fiber(i, layers, per_layer, n_elements)));
+  }
+
+  // The membrane under the mat and one SBS coupling per fiber, in both models.
+  std::vector<model::Coupling*> couplings;
+  if (membrane) {
+    const double h = 0.1, z = -(kRadius + 0.05 + 0.5 * h);
+    auto sheet = [&] {
+      spline::NurbsSurface s = spline::make_rectangle({-8, -8, z}, {16, 0, 0}, {0, 16, 0});
+      s.refine(0, 2, 1, 32);
+      s.refine(1, 2, 1, 32);
+      return model::ShellBody("membrane", s, shell::ShellSection::svk(1e3, 0.3, h));
+    };
+    auto sbs = std::make_shared<laws::LennardJonesDiskPlate>(1.0, 0.01, kRadius, h);
+    const model::ShellBody& alone = beams_only.add_shell(sheet());
+    const model::ShellBody& with = m.add_shell(sheet());
+    for (int i = 0; i < n_fibers; ++i) {
+      beams_only.add_contribution(std::make_unique<model::Coupling>(
+          fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact,
+          beams_only.beams[static_cast<std::size_t>(i)], alone));
+      couplings.push_back(&dynamic_cast<model::Coupling&>(m.add_contribution(std::make_unique<model::Coupling>(
+          fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact, *fibers[i],
+          with))));
+    }
   }
 
   // Global search over all elements of all fibers.
@@ -176,6 +210,12 @@ int main(int argc, char** argv) {
   fmt::print("Model::evaluate with tangent: beams alone {:.1f} ms, with the interactions {:.1f} ms "
              "(interactions {:.1f} ms per evaluation)\n",
              1e3 * t_beams, 1e3 * t_all, 1e3 * (t_all - t_beams));
+  if (membrane) {
+    long sbs_points = 0;
+    for (auto* c : couplings) sbs_points += static_cast<long>(c->points().size());
+    fmt::print("membrane: {} SBS couplings, {} beam quadrature points projected; both models include them\n",
+               couplings.size(), sbs_points);
+  }
   fmt::print("one SBIP point with gradient and Hessian: {:.1f} us (checksum {:.3g})\n", 1e6 * kernel, checksum);
   const double n = times.evaluations;
   fmt::print("per evaluation: closest points and patterns (update) {:.1f} ms, beam assembly {:.1f} ms, "
