@@ -19,15 +19,6 @@ namespace {
 
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
-// Reference arc length from xi0 to xi (10-point Gauss on a smooth axis piece).
-double arc_length(const spline::NurbsCurve& c, double xi0, double xi) {
-  static const auto g = spline::gauss_legendre(10);
-  double s = 0;
-  const double j = 0.5 * (xi - xi0);
-  for (std::size_t q = 0; q < g.points.size(); ++q)
-    s += g.weights[q] * j * c.derivative(xi0 + (g.points[q] + 1.0) * j, 1).norm();
-  return s;
-}
 
 bool same_radius(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(a, b); }
 
@@ -57,11 +48,11 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
           const double xi = el.xi0 + (g.points[q] + 1.0) * j;
           // The half pass's 1/2 x the fiber's share x Gauss weight x dxi/dparent x reference J (Eq. 4).
           const double weight = 0.5 * body.share * g.weights[q] * j * body.curve.derivative(xi, 1).norm();
-          quad_[f].push_back({static_cast<int>(e), xi, weight, s + arc_length(body.curve, el.xi0, xi),
+          quad_[f].push_back({static_cast<int>(e), xi, weight, s + spline::arc_length(body.curve, el.xi0, xi),
                               body.curve.basis(xi, 0).R.row(0).transpose()});
         }
       }
-      s += arc_length(body.curve, el.xi0, el.xi1);
+      s += spline::arc_length(body.curve, el.xi0, el.xi1);
     }
     element_start_[f].push_back(s);
     warm_[f].assign(quad_[f].size(), kNone);

@@ -19,16 +19,6 @@ namespace fibrane::model {
 
 namespace {
 
-// Reference arc length from xi0 to xi (10-point Gauss is exact to round-off on one element of a
-// smooth axis for the purpose of output coordinates).
-double arc_length(const spline::NurbsCurve& c, double xi0, double xi) {
-  static const auto g = spline::gauss_legendre(10);
-  double s = 0;
-  const double j = 0.5 * (xi - xi0);
-  for (std::size_t q = 0; q < g.points.size(); ++q)
-    s += g.weights[q] * j * c.derivative(xi0 + (g.points[q] + 1.0) * j, 1).norm();
-  return s;
-}
 
 // Where two local minima of the distance are within this fraction of each other, a beam point stays on
 // its branch (ShellProximity::project): switching at every Newton iterate made Newton cycle at the
@@ -63,9 +53,9 @@ Coupling::Coupling(std::string name, std::shared_ptr<const laws::InteractionLaw>
       // Eq. (5) integrates over the reference arc length: weight = Gauss weight x dxi/dxi_parent x J_B
       // (times the beam's share of a symmetric model).
       const double weight = b.share * g.weights[q] * j * b.curve.derivative(xi, 1).norm();
-      quad_.push_back({static_cast<int>(e), xi, weight, s_start + arc_length(b.curve, el.xi0, xi)});
+      quad_.push_back({static_cast<int>(e), xi, weight, s_start + spline::arc_length(b.curve, el.xi0, xi)});
     }
-    s_start += arc_length(b.curve, el.xi0, el.xi1);
+    s_start += spline::arc_length(b.curve, el.xi0, el.xi1);
   }
   projection_.resize(quad_.size());
   warm_.assign(quad_.size(), std::nullopt);

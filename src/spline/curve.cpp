@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/gauss_legendre.hpp"
 #include "spline/basis.hpp"
 #include "spline/refinement.hpp"
 
@@ -94,6 +95,15 @@ void NurbsCurve::refine(int degree, int continuity, const std::vector<double>& g
   check_refine_request(this->degree(), degree, continuity, static_cast<int>(grid.size()) + 1);
   elevate_degree(degree - this->degree());
   insert_knots(expand_insertions(grid_insertions(knots_, continuity, grid)));
+}
+
+double arc_length(const NurbsCurve& c, double xi0, double xi) {
+  static const auto g = gauss_legendre(10);
+  double s = 0;
+  const double j = 0.5 * (xi - xi0);
+  for (std::size_t q = 0; q < g.points.size(); ++q)
+    s += g.weights[q] * j * c.derivative(xi0 + (g.points[q] + 1.0) * j, 1).norm();
+  return s;
 }
 
 }  // namespace fibrane::spline

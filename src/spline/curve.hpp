@@ -57,4 +57,8 @@ class NurbsCurve {
 // `bspline` is (n+1) x (p+1) as from bspline_basis_derivs; `weights` are those of the p+1 functions.
 Eigen::MatrixXd rationalize_curve_basis(const Eigen::MatrixXd& bspline, const Eigen::VectorXd& weights);
 
+// Arc length of the curve from xi0 to xi by 10-point Gauss-Legendre: exact to round-off for the output
+// coordinates along one element of a smooth axis (xi0 and xi in one knot span).
+double arc_length(const NurbsCurve& c, double xi0, double xi);
+
 }  // namespace fibrane::spline
