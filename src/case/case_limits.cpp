@@ -72,6 +72,15 @@ void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& setting
               (krylov ? " with Krylov solves" : "");
 }
 
+void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& settings, const io::YamlNode& steps) {
+  if (!(settings.low_rank > 0) || size.dofs <= kMaxLowRankUnknowns) return;
+  steps["low_rank"].fail_message(fmt::format(
+      "block low-rank factorisations are limited to {:.3g} unknowns, and this model has about {:.3g}: the "
+      "low-rank analysis of Debian's MUMPS 5.5 crashes on larger tangents (docs/case-format.md); use "
+      "precision: single for a smaller factor, or leave low_rank out",
+      kMaxLowRankUnknowns, size.dofs));
+}
+
 ModelSize shell_size(double control_points, double elements, int p, int q, int points) {
   ModelSize s;
   s.dofs = 3.0 * control_points;

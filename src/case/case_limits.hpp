@@ -52,6 +52,15 @@ struct ModelSize {
 // taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis.
 void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric);
 
+// Block low-rank factorisations (steps.low_rank) are refused above this many unknowns (estimated) with a
+// located message: Debian 12's sequential MUMPS (5.5.1 with SCOTCH 7.0) ends the process with a
+// segmentation fault in its low-rank analysis (SCOTCH_graphBuild, called by the clustering of large
+// separators, dmumps_lr_grouping_new) on the bending tangent at 155 k unknowns with SCOTCH's ordering and
+// at 274 k with CHOLMOD's, while it ran at 18 k to 155 k with CHOLMOD's (docs/performance.md, "Unsymmetric
+// tangents, Krylov reuse and approximate factorisations").
+inline constexpr double kMaxLowRankUnknowns = 1.5e5;
+void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& settings, const io::YamlNode& steps);
+
 // Size of a shell with `control_points` control points, `elements` elements of degrees (p, q) and
 // `points` quadrature points per element; of a beam likewise (degree p, 4 DOFs per control point).
 ModelSize shell_size(double control_points, double elements, int p, int q, int points);
