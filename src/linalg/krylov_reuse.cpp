@@ -63,6 +63,7 @@ Eigen::VectorXd KrylovReuseSolver::solve_to(const Eigen::VectorXd& b, double rel
   const VectorOperator apply = [this](const Eigen::VectorXd& x, Eigen::VectorXd& y) { parallel_multiply(*matrix_, x, y); };
   const VectorOperator precondition = [this](const Eigen::VectorXd& x, Eigen::VectorXd& y) { y = direct_->solve(x); };
   const double tolerance = std::max(options_.tolerance, relative_accuracy);
+  ++stats_.krylov_solves;  // once per solve, however many preconditioners it tries
   for (int attempt = 0; attempt < 2; ++attempt) {
     const Eigen::VectorXd x0 = direct_->solve(b);
     if (!x0.allFinite()) return failed();
@@ -70,7 +71,6 @@ Eigen::VectorXd KrylovReuseSolver::solve_to(const Eigen::VectorXd& b, double rel
     const bool cg = symmetric_ && direct_->negative_eigenvalues() == 0;
     KrylovResult k = cg ? preconditioned_cg(apply, precondition, b, x0, tolerance, limit) : KrylovResult{};
     if (!cg || k.breakdown) k = preconditioned_gmres(apply, precondition, b, x0, tolerance, limit, options_.restart);
-    ++stats_.krylov_solves;
     if (options_.verbose)
       std::fprintf(stderr, "  %s: %d iterations to %.2e (asked %.1e) with the factorisation of %s\n", cg ? "cg" : "gmres",
                    k.iterations, k.relative_residual, tolerance, fresh_ ? "this matrix" : "an earlier matrix");

@@ -107,6 +107,41 @@ TEST(KrylovReuse, StaleFactorisationIsRenewed) {
   EXPECT_LE(solver.statistics().factorizations, after_far + 1);
 }
 
+// An inexact factorisation (here an exact one whose solutions are scaled by 0.999) of a matrix far from
+// the current one: GMRES fails with it, the current matrix is factorised inside the solve and GMRES runs
+// again. That is one solve, and the statistics count one Krylov solve for it.
+class Scaled final : public LinearSolver {
+ public:
+  void analyze(const SpMat& a) override { inner_->analyze(a); }
+  bool factorize(const SpMat& a) override { return inner_->factorize(a); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return 0.999 * inner_->solve(b); }
+  std::string name() const override { return "scaled"; }
+  long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
+  bool exact() const override { return false; }
+
+ private:
+  std::unique_ptr<LinearSolver> inner_ = make_linear_solver("auto", false);
+};
+
+TEST(KrylovReuse, ASolveThatRefactorisesCountsOnce) {
+  KrylovReuseOptions o;
+  o.tolerance = 1e-10;
+  o.max_iterations = 3;
+  KrylovReuseSolver solver(std::make_unique<Scaled>(), o, false);
+  const SpMat first = grid_matrix(30, 0.2, 0.5), far = grid_matrix(30, 2.0, 0.1, 0.5, 7);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(900, -1, 3);
+  solver.analyze(first);
+  ASSERT_TRUE(solver.factorize(first));
+  EXPECT_LT(relative_residual(first, solver.solve(b), b), 1e-10);
+  ASSERT_TRUE(solver.factorize(far));
+  EXPECT_LT(relative_residual(far, solver.solve(b), b), 1e-10);
+  EXPECT_EQ(solver.statistics().factorizations, 2);  // the second inside the solve: the scaled preconditioner of
+                                                     // `first` needs more than 3 x 3 iterations on `far`
+  EXPECT_EQ(solver.statistics().solves, 2);
+  EXPECT_EQ(solver.statistics().krylov_solves, 2);
+  EXPECT_NE(solver.analysis_summary().find("in 2 of 2 solves"), std::string::npos) << solver.analysis_summary();
+}
+
 // A new sparsity pattern of the same size keeps the old factorisation as preconditioner until it goes
 // stale: no analysis happens for it.
 TEST(KrylovReuse, NewPatternOfTheSameSizeKeepsThePreconditioner) {
