@@ -97,9 +97,13 @@ class MumpsSolver final : public LinearSolver {
   int negative_eigenvalues() const override { return factored_ && !options_.unsymmetric ? infog(12) : -1; }
   bool exact() const override { return !options_.low_rank && sizeof(Real) == sizeof(double); }
   std::string failure_detail() const override {
-    return last_status_ < 0 ? "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " +
-                                  std::to_string(last_status2_)
-                            : std::string();
+    if (last_status_ >= 0) return {};
+    // The statuses a run meets (MUMPS 5.5 user guide, section 8); INFOG(2) < 0 counts millions.
+    const char* meaning = last_status_ == -10 ? ": numerically singular matrix"
+                          : last_status_ == -13 ? ": out of memory (an allocation of INFOG(2) entries failed)"
+                          : last_status_ == -9 || last_status_ == -8 ? ": work space too small"
+                                                                      : "";
+    return "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " + std::to_string(last_status2_) + meaning;
   }
 
  private:

@@ -158,7 +158,10 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     }
     const Eigen::VectorXd dq = solver.solve_to(-r, forcing_term(opt, rep.history, scale));
     if (!dq.allFinite()) {
-      rep.failure = "non-finite Newton update at iteration " + std::to_string(it);
+      // A solve that factorised inside (a Krylov solver renewing its preconditioner) may have failed there.
+      const std::string detail = solver.failure_detail();
+      rep.failure = "non-finite Newton update at iteration " + std::to_string(it) +
+                    (detail.empty() ? "" : " (" + solver.name() + ": " + detail + ")");
       return rep;
     }
     q += dq;

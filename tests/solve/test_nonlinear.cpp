@@ -334,5 +334,28 @@ TEST(Newton, NonFiniteTangentIsReportedBeforeFactorising) {
   EXPECT_EQ(rep.failure, "non-finite tangent at iteration 0");
 }
 
+// A solve that fails inside (a Krylov solver whose renewed factorisation ran out of memory) returns NaN:
+// Newton names the solver's failure with the non-finite update.
+class FailingSolve final : public LinearSolver {
+ public:
+  void analyze(const Eigen::SparseMatrix<double>&) override {}
+  bool factorize(const Eigen::SparseMatrix<double>&) override { return true; }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  std::string name() const override { return "failing"; }
+  long factor_nonzeros() const override { return 0; }
+  std::string failure_detail() const override { return "out of memory"; }
+};
+
+TEST(Newton, ASolveThatFailsInsideIsReportedWithItsCause) {
+  ScalarSystem sys([](double q) { return q - 1.0; }, [](double) { return 1.0; });
+  FailingSolve solver;
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  const NewtonReport rep = newton_solve(sys, q, 1.0, NewtonOptions{}, solver);
+  EXPECT_FALSE(rep.converged);
+  EXPECT_EQ(rep.failure, "non-finite Newton update at iteration 0 (failing: out of memory)");
+}
+
 }  // namespace
 }  // namespace fibrane::solve
