@@ -25,14 +25,17 @@ bool same_radius(double a, double b) { return std::abs(a - b) <= 1e-12 * std::ma
 }  // namespace
 
 BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const laws::SectionCylinderLaw> law,
-                                         const BeamBody& a, const BeamBody& b, double exclusion)
+                                         const BeamBody& a, const BeamBody& b, double exclusion,
+                                         double contact_gap)
     : name_(std::move(name)), law_(std::move(law)), swapped_(law_->swapped()), fiber_{&a, &b}, self_(&a == &b),
-      exclusion_(exclusion) {
+      exclusion_(exclusion), contact_gap_(std::isnan(contact_gap) ? default_contact_gap(*law_) : contact_gap) {
   if (!same_radius(a.section_radius, law_->radius_a()) || !same_radius(b.section_radius, law_->radius_b()))
     throw std::invalid_argument("beam-beam interaction '" + name_ +
                                 "': the law's radii must be the fibers' circular section radii");
   if (self_ && !(exclusion_ > 0))
     throw std::invalid_argument("beam-beam interaction '" + name_ + "': self-interaction needs an exclusion length");
+  if (!std::isnan(contact_gap_) && !(contact_gap_ > 0 && std::isfinite(contact_gap_)))
+    throw std::invalid_argument("beam-beam interaction '" + name_ + "': the contact gap must be positive and finite");
   passes_ = self_ ? std::vector<Pass>{{0, 1}} : std::vector<Pass>{{0, 1}, {1, 0}};
   for (int f = 0; f < 2; ++f) {
     const BeamBody& body = *fiber_[f];
@@ -47,9 +50,10 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
         for (std::size_t q = 0; q < g.points.size(); ++q) {
           const double xi = el.xi0 + (g.points[q] + 1.0) * j;
           // The half pass's 1/2 x the fiber's share x Gauss weight x dxi/dparent x reference J (Eq. 4).
-          const double weight = 0.5 * body.share * g.weights[q] * j * body.curve.derivative(xi, 1).norm();
-          quad_[f].push_back({static_cast<int>(e), xi, weight, s + spline::arc_length(body.curve, el.xi0, xi),
-                              body.curve.basis(xi, 0).R.row(0).transpose()});
+          const double length = g.weights[q] * j * body.curve.derivative(xi, 1).norm();
+          const double weight = 0.5 * body.share * length;
+          const double s_q = s + spline::arc_length(body.curve, el.xi0, xi);
+          quad_[f].push_back({static_cast<int>(e), xi, weight, s_q, length, body.curve.basis(xi, 0).R.row(0).transpose()});
         }
       }
       s += spline::arc_length(body.curve, el.xi0, el.xi1);
@@ -64,6 +68,7 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
       points_[f][i].xi = quad_[f][i].xi;
       points_[f][i].s = quad_[f][i].s;
       points_[f][i].weight = quad_[f][i].weight;
+      points_[f][i].length = quad_[f][i].length;
     }
   }
 }
@@ -319,6 +324,14 @@ double BeamBeamInteraction::minimum_gap() const {
     for (const auto& p : points_[f])
       if (p.found) g = std::min(g, p.gap);
   return g;
+}
+
+double BeamBeamInteraction::contact_length() const {
+  if (std::isnan(contact_gap_)) return kNone;
+  double length = 0;
+  for (const auto& p : points_[0])
+    if (p.found && p.gap < contact_gap_) length += p.length;
+  return length;
 }
 
 void BeamBeamInteraction::accept(const State& /*state*/) {

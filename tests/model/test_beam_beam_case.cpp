@@ -148,7 +148,8 @@ TEST(BeamBeamCase, CrossedFibersExamplePassesPullOff) {
 TEST(BeamBeamCase, TheDefaultKindForTwoBeamsIsBeamBeam) {
   const auto dir = fresh_directory("beam-beam-default");
   std::ofstream(dir / "case.yaml") << crossed_fibers(
-      "{between: [upper, lower], law: {model: inverse_power, exponent: 6, coefficient: -1, cutoff: 0.05}}");
+      "{between: [upper, lower], contact_gap: 0.01, law: {model: inverse_power, exponent: 6, coefficient: -1, "
+      "cutoff: 0.05}}");
   const auto c = casefile::read_case((dir / "case.yaml").string());
   const auto found = c.model->interactions_of<model::BeamBeamInteraction>();
   ASSERT_EQ(found.size(), 1u);
@@ -190,7 +191,7 @@ TEST(BeamBeamCase, SelfInteractionHasOneSeriesAndNoForceColumns) {
   const auto c = casefile::read_case((dir / "case.yaml").string());
   const auto& i = *c.model->interactions().at(0);
   EXPECT_EQ(i.quantity_names(),
-            (std::vector<std::string>{"energy", "interacting_pairs", "interacting_points", "minimum_gap"}));
+            (std::vector<std::string>{"energy", "interacting_pairs", "interacting_points", "minimum_gap", "contact_length"}));
   ASSERT_EQ(i.point_series().size(), 1u);
   EXPECT_EQ(i.point_series()[0].name, "fold");
 }
