@@ -52,8 +52,10 @@ std::unique_ptr<model::Interaction> make_beam_beam(const InteractionRequest& req
     node.fail_message("the law '" + name + "' has no equilibrium gap (its F(g) has no minimum): give 'contact_gap', "
                       "the gap below which the fibers count as in contact (history column <name>_contact_length)");
   }
+  double end_taper = 0;
+  if (auto t = node.optional("end_taper")) end_taper = t->in_range(0.0, 0.5, false, true);
   return std::make_unique<model::BeamBeamInteraction>(request.name, std::move(section_law), a, b, exclusion,
-                                                      contact_gap);
+                                                      contact_gap, end_taper);
 }
 
 }  // namespace fibrane::casefile

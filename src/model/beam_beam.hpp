@@ -23,6 +23,11 @@
 // inside the target's elements (beyond a fiber's end, or, for self-interaction, only in the excluded
 // neighbourhood) does not interact.
 //
+// End taper (optional, end_taper > 0): a section's potential is multiplied by the C1 factor of
+// interaction/section_beam.hpp over the last end_taper x L_B (reference arc length) of the other fiber's
+// ends, so that it fades out smoothly as its closest point approaches the other's end instead of
+// stopping where the closest point leaves the fiber.
+//
 // Contact length: the reference arc length of fiber 0 (the first of the pair) over which the gap to the
 // other fiber is below the contact gap g_contact, by the quadrature of the points: L_c = sum of `length`
 // over fiber 0's points with a closest point and gap < g_contact (a point counts whole or not at all).
@@ -35,6 +40,7 @@
 #include <vector>
 
 #include "interaction/box_tree.hpp"
+#include "interaction/section_beam.hpp"
 #include "laws/section_cylinder.hpp"
 #include "model/interaction.hpp"
 
@@ -63,11 +69,13 @@ class BeamBeamInteraction final : public Interaction {
  public:
   // `b` may be `a` (self-interaction, needs exclusion > 0). `contact_gap` (> 0) is g_contact of the contact
   // length; NaN: default_contact_gap(law), which is NaN (and so is the contact length) for a law without
-  // an equilibrium gap. Throws std::invalid_argument if a fiber has no circular section radius matching
-  // the law's, on self-interaction without exclusion, or a contact gap that is not positive.
+  // an equilibrium gap. `end_taper` in [0, 0.5): the taper length as a fraction of the other fiber's
+  // reference length (0: none). Throws std::invalid_argument if a fiber has no circular section radius
+  // matching the law's, on self-interaction without exclusion, a contact gap that is not positive or an
+  // end taper outside [0, 0.5).
   BeamBeamInteraction(std::string name, std::shared_ptr<const laws::SectionCylinderLaw> law, const BeamBody& a,
                       const BeamBody& b, double exclusion = 0,
-                      double contact_gap = std::numeric_limits<double>::quiet_NaN());
+                      double contact_gap = std::numeric_limits<double>::quiet_NaN(), double end_taper = 0);
   // Twice the law's equilibrium gap (NaN if it has none).
   static double default_contact_gap(const laws::SectionCylinderLaw& law) { return 2 * law.equilibrium_gap(); }
 
@@ -94,6 +102,7 @@ class BeamBeamInteraction final : public Interaction {
   double minimum_gap() const;      // over the points whose closest point was found (+inf if none)
   double contact_length() const;   // L_c of the file comment
   double contact_gap() const { return contact_gap_; }
+  double end_taper() const { return end_taper_; }
   // Per quadrature point of fiber 0 / 1 (fiber 1's is empty for self-interaction).
   const std::vector<FiberPoint>& points(int fiber) const { return points_[fiber]; }
   int pattern_pairs() const { return static_cast<int>(pairs_.size()); }
@@ -127,6 +136,7 @@ class BeamBeamInteraction final : public Interaction {
   bool self_;
   double exclusion_;
   double contact_gap_;
+  double end_taper_;
   std::vector<Pass> passes_;
   std::vector<Quad> quad_[2];
   std::vector<double> element_start_[2];  // reference arc length at each element's start (and the end)
@@ -144,6 +154,8 @@ class BeamBeamInteraction final : public Interaction {
   double search_distance() const;
   std::vector<Eigen::AlignedBox3d> element_boxes(int fiber) const;
   bool excluded(int point, int target_element) const;  // self-interaction's neighbourhood
+  // The end taper's data at parameter xi of `fiber` (the arc length to its nearer end).
+  interaction::EndTaper taper_at(int fiber, double xi) const;
   void project(int pass, int point, std::vector<int>& candidates);
   bool collect_pairs();
   bool keep_pair(int e0, int e1) const;  // a valid pair; self-interaction's excluded ones are not

@@ -176,7 +176,8 @@ TEST(BeamBeamContact, BadContactGapsAreRejectedAtTheKey) {
   }
   // With contact_gap, a law without an equilibrium gap is accepted.
   EXPECT_NO_THROW(casefile::read_case(write_case(
-      "beam-beam-contact-ok", crossing_case("law: {model: inverse_power, exponent: 6, coefficient: -1}, contact_gap: 0.01"))));
+      "beam-beam-contact-ok",
+      crossing_case("law: {model: inverse_power, exponent: 6, coefficient: -1}, contact_gap: 0.01"))));
 }
 
 }  // namespace
