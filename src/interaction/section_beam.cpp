@@ -47,6 +47,16 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   const J delta1 = -(c0 / g1);
   const J delta = -((c0 + 0.5 * g2 * delta1 * delta1) / g1);
   const J half_d2 = 0.5 * delta * delta;
+  // The end taper T(u) of the closest point's arc length to B's nearer end.
+  J taper(1.0);
+  if (p.taper.length > 0) {
+    const J u = (p.taper.s + p.taper.s_xi * delta + p.taper.s_xixi * half_d2) / p.taper.length;
+    if (u.v <= 0) {
+      taper = J(0.0);
+    } else if (u.v < 1) {
+      taper = u * u * (3.0 - 2.0 * u);
+    }
+  }
   const V xb = r0 + scaled(delta, r1) + scaled(half_d2, r2);
   const V tb_raw = r1 + scaled(delta, r2) + scaled(half_d2, r3);
   const V tb = scaled(1.0 / norm(tb_raw), tb_raw);
@@ -88,10 +98,11 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
     throw std::domain_error("section-beam: the section's rim does not face the other fiber (b or a <= 0)");
   const J g = g0 - nt * nt / (4.0 * a);
   out.gap = g.v;
-  if (g.v >= law.cutoff_gap()) return out;
+  out.taper = taper.v;
+  if (g.v >= law.cutoff_gap() || taper.v == 0) return out;
   const laws::GapValue f = law.evaluate(g.v);
   const J fg = chain(g, f.f, f.f_g, f.f_gg);
-  const J pi = fg / (bt * sqrt(a));  // (S1)
+  const J pi = taper * fg / (bt * sqrt(a));  // (S1), times the end taper
   out.active = true;
   out.energy = pi.v;
   out.gradient = pi.gradient();
@@ -104,13 +115,15 @@ SectionBeamResult add_section_beam_point(const laws::SectionCylinderLaw& law,
                                          const Eigen::Matrix3Xd& x_a,
                                          const Eigen::Matrix<double, 4, Eigen::Dynamic>& basis_b,
                                          const Eigen::Matrix3Xd& x_b, double weight, double* energy,
-                                         Eigen::VectorXd* residual, Eigen::MatrixXd* tangent) {
+                                         Eigen::VectorXd* residual, Eigen::MatrixXd* tangent,
+                                         const EndTaper& taper) {
   const int na = static_cast<int>(basis_a.cols()), nb = static_cast<int>(basis_b.cols());
   if (x_a.cols() != na || x_b.cols() != nb) throw std::invalid_argument("section-beam: basis and points differ");
   SectionBeamPoint p;
   p.x = x_a * basis_a.row(0).transpose();
   p.x_xi = x_a * basis_a.row(1).transpose();
   for (int k = 0; k < 4; ++k) p.r[k] = x_b * basis_b.row(k).transpose();
+  p.taper = taper;
   const SectionBeamResult res = section_beam(law, p);
   if (!res.active) return res;
   const int n = 4 * (na + nb);

@@ -24,6 +24,11 @@
 // exactly: xi_B + delta with delta solving the orthogonality condition to second order,
 //   O(xi) = (x - r_B(xi)) . r_B'(xi),  delta_1 = -O / O',  delta = -(O + O'' delta_1^2 / 2) / O'.    (S7)
 //
+// End taper (optional): pi is multiplied by T(u) = u^2 (3 - 2 u) (C1: T(0) = T'(0) = 0, T(1) = 1,
+// T'(1) = 0), u = s_end / l_T, s_end the reference arc length from x_B to B's nearer end, l_T the taper
+// length; T = 1 for u >= 1. s_end moves with the closest point: its second-order expansion in the (S7)
+// correction, s_end(xi_B) + s_end' delta + s_end'' delta^2 / 2, so that the taper's derivatives are exact.
+//
 // Local variables w (15): x, x_xi (A's axis derivative at the point, any parametrisation), r_B, r_B',
 // r_B'' at xi_B; r_B''' enters (S7)'s second-order term as a value. The energy per unit length is pi; the
 // caller multiplies by the weight (Gauss weight x REFERENCE arc length of A, the densities being
@@ -36,10 +41,17 @@
 
 namespace fibrane::interaction {
 
+// The end taper's data at x_B (see the file comment); length 0: no taper.
+struct EndTaper {
+  double s = 0, s_xi = 0, s_xixi = 0;  // s_end and its first two derivatives in B's parameter
+  double length = 0;                   // l_T
+};
+
 struct SectionBeamPoint {
   Eigen::Vector3d x = Eigen::Vector3d::Zero(), x_xi = Eigen::Vector3d::UnitX();  // fiber A
   Eigen::Vector3d r[4] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::Zero(),
                           Eigen::Vector3d::Zero()};  // fiber B: r_B and its first three xi-derivatives
+  EndTaper taper;
 };
 
 struct SectionBeamResult {
@@ -49,6 +61,7 @@ struct SectionBeamResult {
   double distance = 0;  // d: from x to B's axis
   double cos_angle = 1; // |t_A . t_B|
   double slope = 1, curvature = 0;  // b (S4'), a (S5)
+  double taper = 1;                 // the end taper's factor T (1 without a taper)
   Eigen::Matrix<double, 15, 1> gradient = Eigen::Matrix<double, 15, 1>::Zero();
   Eigen::Matrix<double, 15, 15> hessian = Eigen::Matrix<double, 15, 15>::Zero();
 };
@@ -74,7 +87,8 @@ SectionBeamResult add_section_beam_point(const laws::SectionCylinderLaw& law,
                                          const Eigen::Matrix3Xd& x_a,
                                          const Eigen::Matrix<double, 4, Eigen::Dynamic>& basis_b,
                                          const Eigen::Matrix3Xd& x_b, double weight, double* energy,
-                                         Eigen::VectorXd* residual, Eigen::MatrixXd* tangent);
+                                         Eigen::VectorXd* residual, Eigen::MatrixXd* tangent,
+                                         const EndTaper& taper = {});
 
 template <class Axis>
 bool closest_on_axis(const Eigen::Vector3d& x, const Axis& axis, double lo, double hi, double& xi) {

@@ -1,6 +1,8 @@
 #include "laws/section_cylinder.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -66,6 +68,41 @@ GapValue SectionCylinderLaw::raw(double g) const {
     v.f_gg += c * p * (p - 1) / (g * g);
   }
   return v;
+}
+
+double SectionCylinderLaw::equilibrium_gap() const {
+  // The sign of F_g is that of h(g) = sum_m k_m C_m (4.5 - m) g^(m_max - m) (F_g times g^(m_max - 3.5) / s
+  // rho_A rho_B > 0), which neither overflows nor underflows where the terms balance. Its sign changes from
+  // - to + are the minima of F; the deepest one is g_0.
+  double m_max = 0;
+  for (const auto& t : terms_) m_max = std::max(m_max, t.exponent);
+  auto h = [&](double g) {
+    double v = 0;
+    for (const auto& t : terms_)
+      v += t.coefficient * coefficient(t.exponent) * (4.5 - t.exponent) * std::pow(g, m_max - t.exponent);
+    return v;
+  };
+  double best = std::numeric_limits<double>::quiet_NaN(), best_f = 0;
+  constexpr int per_decade = 40;
+  double lo = 1e-15, h_lo = h(lo);
+  for (int k = 1; k <= 30 * per_decade; ++k) {
+    const double hi = std::pow(10.0, -15.0 + static_cast<double>(k) / per_decade), h_hi = h(hi);
+    if (std::isfinite(h_lo) && std::isfinite(h_hi) && h_lo < 0 && h_hi >= 0) {
+      double a = lo, b = hi;  // bisection: h(a) < 0 <= h(b)
+      for (int it = 0; it < 200 && b - a > 1e-15 * b; ++it) {
+        const double mid = 0.5 * (a + b);
+        (h(mid) < 0 ? a : b) = mid;
+      }
+      const double g = 0.5 * (a + b), f = raw(g).f;
+      if (std::isnan(best) || f < best_f) {
+        best = g;
+        best_f = f;
+      }
+    }
+    lo = hi;
+    h_lo = h_hi;
+  }
+  return best;
 }
 
 GapValue SectionCylinderLaw::slope_gap(double g) const {

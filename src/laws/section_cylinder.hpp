@@ -61,6 +61,11 @@ class SectionCylinderLaw {
   GapValue raw(double g) const;
   // C_m of (S2).
   static double coefficient(double m);
+  // The equilibrium gap g_0 of the law: the gap of the smallest F of (S2) itself (F_g(g_0) = 0 with F
+  // falling below and rising above it; without regularization, cut-off and the slope correction), sought
+  // over 1e-15 <= g <= 1e15. NaN if F has no such minimum (a single term, or only attractive terms).
+  // Lennard-Jones: g_0 = (5 C_12 / C_6)^(1/6) sigma = 0.6417 sigma.
+  double equilibrium_gap() const;
 
   double radius_a() const { return radius_a_; }
   double radius_b() const { return radius_b_; }

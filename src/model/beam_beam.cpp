@@ -25,14 +25,20 @@ bool same_radius(double a, double b) { return std::abs(a - b) <= 1e-12 * std::ma
 }  // namespace
 
 BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const laws::SectionCylinderLaw> law,
-                                         const BeamBody& a, const BeamBody& b, double exclusion)
+                                         const BeamBody& a, const BeamBody& b, double exclusion,
+                                         double contact_gap, double end_taper)
     : name_(std::move(name)), law_(std::move(law)), swapped_(law_->swapped()), fiber_{&a, &b}, self_(&a == &b),
-      exclusion_(exclusion) {
+      exclusion_(exclusion), contact_gap_(std::isnan(contact_gap) ? default_contact_gap(*law_) : contact_gap),
+      end_taper_(end_taper) {
   if (!same_radius(a.section_radius, law_->radius_a()) || !same_radius(b.section_radius, law_->radius_b()))
     throw std::invalid_argument("beam-beam interaction '" + name_ +
                                 "': the law's radii must be the fibers' circular section radii");
   if (self_ && !(exclusion_ > 0))
     throw std::invalid_argument("beam-beam interaction '" + name_ + "': self-interaction needs an exclusion length");
+  if (!std::isnan(contact_gap_) && !(contact_gap_ > 0 && std::isfinite(contact_gap_)))
+    throw std::invalid_argument("beam-beam interaction '" + name_ + "': the contact gap must be positive and finite");
+  if (!(end_taper_ >= 0 && end_taper_ < 0.5))
+    throw std::invalid_argument("beam-beam interaction '" + name_ + "': the end taper must be in [0, 0.5)");
   passes_ = self_ ? std::vector<Pass>{{0, 1}} : std::vector<Pass>{{0, 1}, {1, 0}};
   for (int f = 0; f < 2; ++f) {
     const BeamBody& body = *fiber_[f];
@@ -47,9 +53,11 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
         for (std::size_t q = 0; q < g.points.size(); ++q) {
           const double xi = el.xi0 + (g.points[q] + 1.0) * j;
           // The half pass's 1/2 x the fiber's share x Gauss weight x dxi/dparent x reference J (Eq. 4).
-          const double weight = 0.5 * body.share * g.weights[q] * j * body.curve.derivative(xi, 1).norm();
-          quad_[f].push_back({static_cast<int>(e), xi, weight, s + spline::arc_length(body.curve, el.xi0, xi),
-                              body.curve.basis(xi, 0).R.row(0).transpose()});
+          const double length = g.weights[q] * j * body.curve.derivative(xi, 1).norm();
+          const double weight = 0.5 * body.share * length;
+          const double s_q = s + spline::arc_length(body.curve, el.xi0, xi);
+          quad_[f].push_back(
+              {static_cast<int>(e), xi, weight, s_q, length, body.curve.basis(xi, 0).R.row(0).transpose()});
         }
       }
       s += spline::arc_length(body.curve, el.xi0, el.xi1);
@@ -64,6 +72,7 @@ BeamBeamInteraction::BeamBeamInteraction(std::string name, std::shared_ptr<const
       points_[f][i].xi = quad_[f][i].xi;
       points_[f][i].s = quad_[f][i].s;
       points_[f][i].weight = quad_[f][i].weight;
+      points_[f][i].length = quad_[f][i].length;
     }
   }
 }
@@ -81,6 +90,19 @@ std::vector<Eigen::AlignedBox3d> BeamBeamInteraction::element_boxes(int f) const
     boxes.push_back(box);
   }
   return boxes;
+}
+
+interaction::EndTaper BeamBeamInteraction::taper_at(int f, double xi) const {
+  if (!(end_taper_ > 0)) return {};
+  const BeamBody& body = *fiber_[f];
+  const int e = body.element_of(xi);
+  const double s = element_start_[f][e] + spline::arc_length(body.curve, body.elements[e].xi0, xi);
+  const double length = element_start_[f].back();
+  // ds/dxi = |C'| of the reference axis, d2s/dxi2 = C'.C'' / |C'|.
+  const Eigen::Vector3d d1 = body.curve.derivative(xi, 1), d2 = body.curve.derivative(xi, 2);
+  const double j = d1.norm(), j_xi = d1.dot(d2) / j;
+  if (s <= 0.5 * length) return {s, j, j_xi, end_taper_ * length};
+  return {length - s, -j, -j_xi, end_taper_ * length};
 }
 
 bool BeamBeamInteraction::excluded(int point, int target) const {
@@ -198,7 +220,7 @@ double BeamBeamInteraction::evaluate_pair(int pair, bool with_tangent, Eigen::Ve
     interaction::SectionBeamResult res;
     try {
       res = interaction::add_section_beam_point(source == 0 ? *law_ : swapped_, bs, xs, bt, xt, q.weight, &energy,
-                                                &rp, with_tangent ? &kp : nullptr);
+                                                &rp, with_tangent ? &kp : nullptr, taper_at(target, out.target_xi));
     } catch (const std::domain_error& e) {
       status.merge(Status::invalid("beam-beam interaction '" + name_ + "': " + e.what()));
       continue;
@@ -319,6 +341,14 @@ double BeamBeamInteraction::minimum_gap() const {
     for (const auto& p : points_[f])
       if (p.found) g = std::min(g, p.gap);
   return g;
+}
+
+double BeamBeamInteraction::contact_length() const {
+  if (std::isnan(contact_gap_)) return kNone;
+  double length = 0;
+  for (const auto& p : points_[0])
+    if (p.found && p.gap < contact_gap_) length += p.length;
+  return length;
 }
 
 void BeamBeamInteraction::accept(const State& /*state*/) {

@@ -22,13 +22,25 @@
 // missing. A section whose closest point on the other axis is not a stationary point of the distance
 // inside the target's elements (beyond a fiber's end, or, for self-interaction, only in the excluded
 // neighbourhood) does not interact.
+//
+// End taper (optional, end_taper > 0): a section's potential is multiplied by the C1 factor of
+// interaction/section_beam.hpp over the last end_taper x L_B (reference arc length) of the other fiber's
+// ends, so that it fades out smoothly as its closest point approaches the other's end instead of
+// stopping where the closest point leaves the fiber.
+//
+// Contact length: the reference arc length of fiber 0 (the first of the pair) over which the gap to the
+// other fiber is below the contact gap g_contact, by the quadrature of the points: L_c = sum of `length`
+// over fiber 0's points with a closest point and gap < g_contact (a point counts whole or not at all).
+// g_contact defaults to twice the law's equilibrium gap (SectionCylinderLaw::equilibrium_gap).
 #include <Eigen/Dense>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "interaction/box_tree.hpp"
+#include "interaction/section_beam.hpp"
 #include "laws/section_cylinder.hpp"
 #include "model/interaction.hpp"
 
@@ -44,6 +56,7 @@ struct FiberPoint {
   double gap = 0, distance = 0, energy_density = 0;  // g (S6), axis distance, pi (S1) per unit length
   double target_xi = 0;                              // the closest point's parameter on the other fiber
   double weight = 0;  // its quadrature weight: its share of the energy is weight * energy_density
+  double length = 0;  // the reference arc length it stands for: Gauss weight x dS/dxi (sum: the fiber's length)
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   // -d pi / d x: the force per unit length on this section from its pass (the half pass's factor 1/2
   // not applied).
@@ -54,10 +67,17 @@ struct FiberPoint {
 // reports through the Interaction interface is written in beam_beam_output.cpp.
 class BeamBeamInteraction final : public Interaction {
  public:
-  // `b` may be `a` (self-interaction, needs exclusion > 0). Throws std::invalid_argument if a fiber has no
-  // circular section radius matching the law's, or self-interaction without exclusion.
+  // `b` may be `a` (self-interaction, needs exclusion > 0). `contact_gap` (> 0) is g_contact of the contact
+  // length; NaN: default_contact_gap(law), which is NaN (and so is the contact length) for a law without
+  // an equilibrium gap. `end_taper` in [0, 0.5): the taper length as a fraction of the other fiber's
+  // reference length (0: none). Throws std::invalid_argument if a fiber has no circular section radius
+  // matching the law's, on self-interaction without exclusion, a contact gap that is not positive or an
+  // end taper outside [0, 0.5).
   BeamBeamInteraction(std::string name, std::shared_ptr<const laws::SectionCylinderLaw> law, const BeamBody& a,
-                      const BeamBody& b, double exclusion = 0);
+                      const BeamBody& b, double exclusion = 0,
+                      double contact_gap = std::numeric_limits<double>::quiet_NaN(), double end_taper = 0);
+  // Twice the law's equilibrium gap (NaN if it has none).
+  static double default_contact_gap(const laws::SectionCylinderLaw& law) { return 2 * law.equilibrium_gap(); }
 
   std::string name() const override { return name_; }
   bool variable() const override { return true; }
@@ -80,6 +100,9 @@ class BeamBeamInteraction final : public Interaction {
   int interacting_points() const;  // quadrature points inside the cut-off, both passes
   int interacting_pairs() const;   // element pairs with at least one such point
   double minimum_gap() const;      // over the points whose closest point was found (+inf if none)
+  double contact_length() const;   // L_c of the file comment
+  double contact_gap() const { return contact_gap_; }
+  double end_taper() const { return end_taper_; }
   // Per quadrature point of fiber 0 / 1 (fiber 1's is empty for self-interaction).
   const std::vector<FiberPoint>& points(int fiber) const { return points_[fiber]; }
   int pattern_pairs() const { return static_cast<int>(pairs_.size()); }
@@ -88,7 +111,7 @@ class BeamBeamInteraction final : public Interaction {
 
   // Interaction (beam_beam_output.cpp). Quantities: energy, force_<a>_x/y/z and force_<b>_x/y/z (force_on,
   // <a>, <b> the fibers' names; none for self-interaction), interacting_pairs, interacting_points,
-  // minimum_gap. One point series per fiber, <name>_<fiber> (<name> for self-interaction), each with a
+  // minimum_gap, contact_length. One point series per fiber, <name>_<fiber> (<name> for self-interaction), each with a
   // table: the quadrature points with a closest point on the other fiber (VTK), all points (table). The
   // record reports the final quantities and the smallest gap of the run with its step.
   std::pair<std::string, std::string> bodies() const override;
@@ -102,7 +125,7 @@ class BeamBeamInteraction final : public Interaction {
  private:
   struct Quad {
     int element;
-    double xi, weight, s;
+    double xi, weight, s, length;
     Eigen::VectorXd basis;  // shape functions of the element's control points at xi
   };
   struct Pass { int source, target; };  // fiber indices; one pass (0 -> 1) for self-interaction
@@ -112,6 +135,8 @@ class BeamBeamInteraction final : public Interaction {
   const BeamBody* fiber_[2];
   bool self_;
   double exclusion_;
+  double contact_gap_;
+  double end_taper_;
   std::vector<Pass> passes_;
   std::vector<Quad> quad_[2];
   std::vector<double> element_start_[2];  // reference arc length at each element's start (and the end)
@@ -129,6 +154,8 @@ class BeamBeamInteraction final : public Interaction {
   double search_distance() const;
   std::vector<Eigen::AlignedBox3d> element_boxes(int fiber) const;
   bool excluded(int point, int target_element) const;  // self-interaction's neighbourhood
+  // The end taper's data at parameter xi of `fiber` (the arc length to its nearer end).
+  interaction::EndTaper taper_at(int fiber, double xi) const;
   void project(int pass, int point, std::vector<int>& candidates);
   bool collect_pairs();
   bool keep_pair(int e0, int e1) const;  // a valid pair; self-interaction's excluded ones are not

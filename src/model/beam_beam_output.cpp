@@ -56,7 +56,7 @@ std::vector<std::string> BeamBeamInteraction::quantity_names() const {
   if (!self_)
     for (int f = 0; f < 2; ++f)
       for (const char* c : {"_x", "_y", "_z"}) out.push_back("force_" + fiber_[f]->name() + c);
-  out.insert(out.end(), {"interacting_pairs", "interacting_points", "minimum_gap"});
+  out.insert(out.end(), {"interacting_pairs", "interacting_points", "minimum_gap", "contact_length"});
   return out;
 }
 
@@ -67,7 +67,8 @@ double BeamBeamInteraction::quantity(std::size_t k) const {
   k -= forces;
   if (k == 1) return interacting_pairs();
   if (k == 2) return interacting_points();
-  return minimum_gap();
+  if (k == 3) return minimum_gap();
+  return contact_length();
 }
 
 std::vector<PointSeries> BeamBeamInteraction::point_series() const {
@@ -101,7 +102,7 @@ PointTable BeamBeamInteraction::point_table(std::size_t series) const {
   constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   PointTable t;
   for (const char* name : {"xi", "s", "found", "active", "gap", "distance", "energy_density", "energy",
-                           "force_per_length_x", "force_per_length_y", "force_per_length_z"})
+                           "force_per_length_x", "force_per_length_y", "force_per_length_z", "length"})
     t.columns.push_back({name, {}, {}});
   auto& c = t.columns;
   for (const auto& p : points_[series]) {
@@ -114,6 +115,7 @@ PointTable BeamBeamInteraction::point_table(std::size_t series) const {
     c[6].numbers.push_back(p.energy_density);
     c[7].numbers.push_back(p.weight * p.energy_density);
     for (int k = 0; k < 3; ++k) c[static_cast<std::size_t>(8 + k)].numbers.push_back(p.force[k]);
+    c[11].numbers.push_back(p.length);
   }
   return t;
 }

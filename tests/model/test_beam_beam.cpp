@@ -3,6 +3,7 @@
 // of the forces on the two fibers, and the observables.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -116,6 +117,43 @@ TEST(BeamBeamInteraction, SavedStateRestoresTheSameEvaluation) {
   EXPECT_GT(bb1.interacting_points(), 0);
   EXPECT_EQ((first.residual() - second.residual()).norm(), 0.0);
   EXPECT_THROW(bb2.restore_state(std::vector<double>(3, 0.0)), InputError);
+}
+
+// End taper: fiber b ends 0.05 past the crossing, inside the taper (10 % of b's length 1.55), so the
+// sections of a near the crossing fade with their closest point's distance to b's end. The tangent and the
+// energy's gradient, through the taper's dependence on the moving closest point, against central
+// differences; the taper lowers the energy's magnitude; far from the end the taper changes nothing.
+TEST(BeamBeamInteraction, EndTaperTangentAndFading) {
+  auto build = [](model::Model& m, double taper, double end_y) -> model::BeamBeamInteraction& {
+    auto& a = m.add_beam(make_fiber(
+        "a", {{-1.5, 0.05, 0.40}, {-0.5, -0.05, 0.37}, {0.5, 0.05, 0.37}, {1.5, -0.05, 0.40}}, 0.2, 6));
+    auto& b = m.add_beam(make_fiber(
+        "b", {{0.05, -1.5, 0.0}, {-0.05, -1.0, 0.02}, {0.05, -0.5, -0.02}, {0.0, end_y, 0.0}}, 0.15, 6));
+    auto interaction = std::make_unique<model::BeamBeamInteraction>(
+        "ab", law_for(0.2, 0.15), a, b, 0.0, std::numeric_limits<double>::quiet_NaN(), taper);
+    auto& bb = dynamic_cast<model::BeamBeamInteraction&>(m.add_contribution(std::move(interaction)));
+    m.finalize();
+    return bb;
+  };
+  model::Model tapered;
+  auto& bb = build(tapered, 0.1, 0.05);
+  EXPECT_EQ(bb.end_taper(), 0.1);
+  check_derivatives(tapered, 7, 0.01);
+  EXPECT_GT(bb.interacting_points(), 4);
+  EXPECT_LT((bb.force_on(0) + bb.force_on(1)).norm(), 1e-10 * bb.force_on(0).norm());
+  model::Model plain, far_tapered, far_plain;
+  auto& bp = build(plain, 0.0, 0.05);
+  auto& bf = build(far_tapered, 0.1, 1.5);
+  auto& bfp = build(far_plain, 0.0, 1.5);
+  for (model::Model* m : {&tapered, &plain, &far_tapered, &far_plain})
+    m->evaluate(Eigen::VectorXd::Zero(m->size()), 1.0, false);
+  EXPECT_LT(bb.energy(), 0.0);
+  EXPECT_GT(bb.energy(), 0.9 * bp.energy());  // faded: a smaller magnitude
+  // b's end 1.5 from the crossing (length 3.0, taper length 0.3): a's sections do not reach the taper, but b's
+  // own sections near its ends do not see a at all, so the energies agree.
+  EXPECT_NEAR(bf.energy(), bfp.energy(), 1e-12 * std::abs(bfp.energy()));
+  EXPECT_THROW(model::BeamBeamInteraction("bad", law_for(0.2, 0.15), plain.beams[0], plain.beams[1], 0.0, 0.01, 0.5),
+               std::invalid_argument);
 }
 
 TEST(BeamBeamInteraction, FiberFoldedOntoItself) {

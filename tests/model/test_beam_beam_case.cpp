@@ -148,13 +148,19 @@ TEST(BeamBeamCase, CrossedFibersExamplePassesPullOff) {
 TEST(BeamBeamCase, TheDefaultKindForTwoBeamsIsBeamBeam) {
   const auto dir = fresh_directory("beam-beam-default");
   std::ofstream(dir / "case.yaml") << crossed_fibers(
-      "{between: [upper, lower], law: {model: inverse_power, exponent: 6, coefficient: -1, cutoff: 0.05}}");
+      "{between: [upper, lower], contact_gap: 0.01, law: {model: inverse_power, exponent: 6, coefficient: -1, "
+      "cutoff: 0.05}}");
   const auto c = casefile::read_case((dir / "case.yaml").string());
   const auto found = c.model->interactions_of<model::BeamBeamInteraction>();
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0]->name(), "upper_lower");
   EXPECT_EQ(found[0]->bodies(), std::make_pair(std::string("upper"), std::string("lower")));
   EXPECT_FALSE(found[0]->self());
+  EXPECT_EQ(found[0]->end_taper(), 0.0);
+  std::ofstream(dir / "case.yaml") << crossed_fibers(
+      "{between: [upper, lower], end_taper: 0.02, law: {model: lennard_jones, epsilon: 1, sigma: 0.01}}");
+  EXPECT_EQ(casefile::read_case((dir / "case.yaml").string()).model->interactions_of<model::BeamBeamInteraction>()
+                .at(0)->end_taper(), 0.02);
 }
 
 // A fiber with itself needs `exclusion`; two fibers take none; the law is a section law with its keys.
@@ -168,6 +174,8 @@ TEST(BeamBeamCase, BadEntriesAreRejectedAtTheirKeys) {
       {"{between: [lower, upper], law: {model: lennard_jones, epsilon: 1, sigma: 0.01, depth: 2}}", "depth"},
       {"{between: [lower, upper]}", "law"},
       {"{between: [lower, lower], exclusion: -1, " + law + "}", "exclusion"},
+      {"{between: [lower, upper], end_taper: 0.5, " + law + "}", "end_taper"},
+      {"{between: [lower, upper], end_taper: -0.1, " + law + "}", "end_taper"},
   };
   for (const auto& [entry, expected] : cases) {
     std::ofstream(dir / "case.yaml") << crossed_fibers(entry);
@@ -190,7 +198,8 @@ TEST(BeamBeamCase, SelfInteractionHasOneSeriesAndNoForceColumns) {
   const auto c = casefile::read_case((dir / "case.yaml").string());
   const auto& i = *c.model->interactions().at(0);
   EXPECT_EQ(i.quantity_names(),
-            (std::vector<std::string>{"energy", "interacting_pairs", "interacting_points", "minimum_gap"}));
+            (std::vector<std::string>{"energy", "interacting_pairs", "interacting_points", "minimum_gap",
+                                      "contact_length"}));
   ASSERT_EQ(i.point_series().size(), 1u);
   EXPECT_EQ(i.point_series()[0].name, "fold");
 }
