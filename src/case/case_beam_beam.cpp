@@ -1,7 +1,5 @@
 #include "case/case_beam_beam.hpp"
 
-#include <cmath>
-
 #include "io/yaml_parameters.hpp"
 #include "laws/section_law_registry.hpp"
 #include "model/beam_beam.hpp"
@@ -45,13 +43,9 @@ std::unique_ptr<model::Interaction> make_beam_beam(const InteractionRequest& req
   if (!laws::section_law_registry().find(name)) model_node.fail("one of " + laws::section_law_registry().names_text());
   auto section_law = laws::section_law_registry().make(name, io::YamlParameters(law, {"model"}),
                                                        laws::SectionGeometry{a.section_radius, b.section_radius});
+  // NaN (a law without an equilibrium gap, and no contact_gap): no contact length.
   double contact_gap = model::BeamBeamInteraction::default_contact_gap(*section_law);
-  if (auto c = node.optional("contact_gap")) {
-    contact_gap = c->positive();
-  } else if (std::isnan(contact_gap)) {
-    node.fail_message("the law '" + name + "' has no equilibrium gap (its F(g) has no minimum): give 'contact_gap', "
-                      "the gap below which the fibers count as in contact (history column <name>_contact_length)");
-  }
+  if (auto c = node.optional("contact_gap")) contact_gap = c->positive();
   double end_taper = 0;
   if (auto t = node.optional("end_taper")) end_taper = t->in_range(0.0, 0.5, false, true);
   return std::make_unique<model::BeamBeamInteraction>(request.name, std::move(section_law), a, b, exclusion,

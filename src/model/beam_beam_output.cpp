@@ -56,7 +56,8 @@ std::vector<std::string> BeamBeamInteraction::quantity_names() const {
   if (!self_)
     for (int f = 0; f < 2; ++f)
       for (const char* c : {"_x", "_y", "_z"}) out.push_back("force_" + fiber_[f]->name() + c);
-  out.insert(out.end(), {"interacting_pairs", "interacting_points", "minimum_gap", "contact_length"});
+  out.insert(out.end(), {"interacting_pairs", "interacting_points", "minimum_gap"});
+  if (!std::isnan(contact_gap_)) out.push_back("contact_length");  // not without a contact gap
   return out;
 }
 

@@ -3,6 +3,7 @@
 // contact gap from the law's equilibrium gap; the case key contact_gap and its errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -162,7 +163,6 @@ TEST(BeamBeamContact, BadContactGapsAreRejectedAtTheKey) {
       {law + ", contact_gap: -0.01", "contact_gap"},
       {law + ", contact_gap: 0", "contact_gap"},
       {law + ", contact_gap: big", "contact_gap"},
-      {"law: {model: inverse_power, exponent: 6, coefficient: -1}", "has no equilibrium gap"},
   };
   for (const auto& [keys, expected] : cases) {
     try {
@@ -174,10 +174,17 @@ TEST(BeamBeamContact, BadContactGapsAreRejectedAtTheKey) {
       EXPECT_NE(what.find("case.yaml"), std::string::npos) << what;
     }
   }
-  // With contact_gap, a law without an equilibrium gap is accepted.
-  EXPECT_NO_THROW(casefile::read_case(write_case(
-      "beam-beam-contact-ok",
-      crossing_case("law: {model: inverse_power, exponent: 6, coefficient: -1}, contact_gap: 0.01"))));
+  // A law without an equilibrium gap has a contact length only with contact_gap; without it, no column.
+  const std::string power = "law: {model: inverse_power, exponent: 6, coefficient: -1}";
+  const auto with_gap = casefile::read_case(write_case("beam-beam-contact-ok", crossing_case(power + ", contact_gap: 0.01")));
+  const auto names = with_gap.model->interactions_of<model::BeamBeamInteraction>().at(0)->quantity_names();
+  EXPECT_EQ(std::count(names.begin(), names.end(), "contact_length"), 1);
+  const auto without = casefile::read_case(write_case("beam-beam-contact-none", crossing_case(power)));
+  const auto* bb = without.model->interactions_of<model::BeamBeamInteraction>().at(0);
+  EXPECT_TRUE(std::isnan(bb->contact_gap()));
+  const auto bare = bb->quantity_names();
+  EXPECT_EQ(std::count(bare.begin(), bare.end(), "contact_length"), 0);
+  EXPECT_EQ(std::count(bare.begin(), bare.end(), "minimum_gap"), 1);
 }
 
 }  // namespace
