@@ -214,6 +214,10 @@ bool PetscSolver::factor() {
     FIBRANE_PETSC(KSPGetPC(ksp_, &pc));
     FIBRANE_PETSC(PCSetReusePreconditioner(pc, PETSC_FALSE));
     FIBRANE_PETSC(KSPSetUp(ksp_));
+    // KSPSetUp sets up the preconditioner only once per KSP; PCSetUp factorises the matrix's new values
+    // here (and not later, inside KSPSolve), so that the error check and the inertia below are this
+    // factorisation's.
+    FIBRANE_PETSC(PCSetUp(pc));
     MatFactorError error;
     FIBRANE_PETSC(MatFactorGetError(factor_matrix(), &error));
     const bool ok = d_.all(error == MAT_FACTOR_NOERROR);
