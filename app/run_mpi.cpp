@@ -49,7 +49,8 @@ casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDi
 void run_mpi(const RunCommandOptions& o) {
   parallel::Session session;
   parallel::MpiDistribution distribution(session.comm());
-  distribution.set_partitioning(o.partition == "contiguous" ? solve::Partitioning::contiguous : solve::Partitioning::graph);
+  using solve::Partitioning;
+  distribution.set_partitioning(o.partition == "contiguous" ? Partitioning::contiguous : Partitioning::graph);
   const bool distributed = session.size() > 1 || !o.mpi_solver.empty();
   casefile::Case c = read_everywhere(o, distribution, distributed);
   const std::string& note = c.model->partition().note;

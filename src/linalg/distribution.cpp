@@ -28,9 +28,9 @@ UnknownOwnership UnknownOwnership::contiguous(int n, int processes) {
   o.owner_.resize(static_cast<std::size_t>(n));
   o.begin_.assign(static_cast<std::size_t>(processes) + 1, 0);
   const int q = n / processes, extra = n % processes;
-  for (int p = 0; p < processes; ++p) {
-    o.begin_[static_cast<std::size_t>(p) + 1] = o.begin_[static_cast<std::size_t>(p)] + q + (p < extra ? 1 : 0);
-    std::fill(o.owner_.begin() + o.begin_[static_cast<std::size_t>(p)], o.owner_.begin() + o.begin_[static_cast<std::size_t>(p) + 1], p);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(processes); ++p) {
+    o.begin_[p + 1] = o.begin_[p] + q + (static_cast<int>(p) < extra ? 1 : 0);
+    std::fill(o.owner_.begin() + o.begin_[p], o.owner_.begin() + o.begin_[p + 1], static_cast<int>(p));
   }
   return o;
 }
@@ -42,7 +42,7 @@ UnknownOwnership UnknownOwnership::from_owners(std::vector<int> owner, int proce
     if (p < 0 || p >= processes) throw std::invalid_argument("UnknownOwnership: an owner outside 0 .. processes - 1");
     ++o.begin_[static_cast<std::size_t>(p) + 1];
   }
-  for (int p = 0; p < processes; ++p) o.begin_[static_cast<std::size_t>(p) + 1] += o.begin_[static_cast<std::size_t>(p)];
+  for (std::size_t p = 0; p < static_cast<std::size_t>(processes); ++p) o.begin_[p + 1] += o.begin_[p];
   std::vector<int> next(o.begin_.begin(), o.begin_.end() - 1);
   o.row_.resize(owner.size());
   o.unknown_.resize(owner.size());

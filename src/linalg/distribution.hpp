@@ -39,8 +39,8 @@ class Distribution {
   // Collective: the `text` of the lowest-ranked process whose text is not empty (empty if none).
   virtual std::string first_text(const std::string& text) const { return text; }
   // Collective: the part (0 <= part < size()) of every vertex of `graph`, the same on every process, with
-  // the parts' vertex weights balanced and a small weight of the edges between parts. Empty, with `why` saying why, where
-  // this distribution cannot partition graphs (the serial one has nothing to share).
+  // the parts' vertex weights balanced and little edge weight between parts. Empty, with `why` saying why,
+  // where this distribution cannot partition graphs (the serial one has nothing to share).
   virtual std::vector<int> partition(const Graph& graph, std::string& why) const;
 
   // The partitioning the model applies (set before the model is finalised; default graph).

@@ -22,7 +22,10 @@ Touching touching(const std::vector<std::vector<int>>& unknowns, int n) {
   t.elements.resize(static_cast<std::size_t>(t.begin.back()));
   std::vector<int> next(t.begin.begin(), t.begin.end() - 1);
   for (std::size_t e = 0; e < unknowns.size(); ++e)
-    for (int u : unknowns[e]) t.elements[static_cast<std::size_t>(next[static_cast<std::size_t>(u)]++)] = static_cast<int>(e);
+    for (int u : unknowns[e]) {
+      const auto slot = static_cast<std::size_t>(next[static_cast<std::size_t>(u)]++);
+      t.elements[slot] = static_cast<int>(e);
+    }
   return t;
 }
 
@@ -118,12 +121,15 @@ UnknownOwnership owners_by_elements(const std::vector<std::vector<int>>& unknown
   for (int u = 0; u < n; ++u) {
     const auto b = static_cast<std::size_t>(t.begin[static_cast<std::size_t>(u)]);
     const auto e = static_cast<std::size_t>(t.begin[static_cast<std::size_t>(u) + 1]);
-    int best = 0;
-    for (std::size_t k = b; k < e; ++k) ++votes[static_cast<std::size_t>(element_owner[static_cast<std::size_t>(t.elements[k])])];
-    for (int p = 1; p < processes; ++p)
-      if (votes[static_cast<std::size_t>(p)] > votes[static_cast<std::size_t>(best)]) best = p;
-    for (std::size_t k = b; k < e; ++k) votes[static_cast<std::size_t>(element_owner[static_cast<std::size_t>(t.elements[k])])] = 0;
-    owner[static_cast<std::size_t>(u)] = best;
+    auto process = [&](std::size_t k) {
+      return static_cast<std::size_t>(element_owner[static_cast<std::size_t>(t.elements[k])]);
+    };
+    for (std::size_t k = b; k < e; ++k) ++votes[process(k)];
+    std::size_t best = 0;
+    for (std::size_t p = 1; p < votes.size(); ++p)
+      if (votes[p] > votes[best]) best = p;
+    for (std::size_t k = b; k < e; ++k) votes[process(k)] = 0;
+    owner[static_cast<std::size_t>(u)] = static_cast<int>(best);
   }
   return UnknownOwnership::from_owners(std::move(owner), processes);
 }
