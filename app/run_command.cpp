@@ -1,6 +1,6 @@
 // `fibrane run CASE.yaml [-o OUTDIR | --restart OUTDIR] [--threads N] [--max-steps N] [--quiet] [--newton-log]`;
-// in builds with PETSc also `[--mpi-solver mumps|gmres]`, and `mpirun -np N fibrane run CASE.yaml` runs
-// distributed (run_mpi.cpp).
+// in builds with PETSc also `[--mpi-solver mumps|gmres] [--partition graph|contiguous]`, and
+// `mpirun -np N fibrane run CASE.yaml` runs distributed (run_mpi.cpp).
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -46,6 +46,11 @@ void register_run_command(CLI::App& app) {
                     "Distributed linear solver (also on one process): mumps (a MUMPS factorisation of every tangent, "
                     "the default under mpirun) or gmres (GMRES preconditioned by an earlier tangent's factorisation)")
         ->check(CLI::IsMember({"mumps", "gmres"}));
+  if (mpi_available())
+    cmd->add_option("--partition", opt->partition,
+                    "How a distributed run shares the mesh: graph (a PT-Scotch partition of the elements' adjacency "
+                    "graph, the default) or contiguous (the unknowns in contiguous ranges)")
+        ->check(CLI::IsMember({"graph", "contiguous"}));
   cmd->callback([opt]() {
     if (mpi_available()) {
       run_mpi(*opt);

@@ -49,8 +49,12 @@ casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDi
 void run_mpi(const RunCommandOptions& o) {
   parallel::Session session;
   parallel::MpiDistribution distribution(session.comm());
+  using solve::Partitioning;
+  distribution.set_partitioning(o.partition == "contiguous" ? Partitioning::contiguous : Partitioning::graph);
   const bool distributed = session.size() > 1 || !o.mpi_solver.empty();
   casefile::Case c = read_everywhere(o, distribution, distributed);
+  const std::string& note = c.model->partition().note;
+  if (distributed && session.rank() == 0 && !note.empty()) std::cerr << "fibrane: warning: " << note << "\n";
   apply_max_steps(c, o);
   run::RunOptions options = o.run;
   if (!o.restart_directory.empty()) {
@@ -61,7 +65,9 @@ void run_mpi(const RunCommandOptions& o) {
   if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;
   if (distributed) {
     options.newton_log = options.newton_log && session.rank() == 0;  // one log, not one per process
-    options.make_solver = [&](bool symmetric) { return parallel::make_petsc_solver(solver, symmetric, distribution); };
+    options.make_solver = [&](bool symmetric) {
+      return parallel::make_petsc_solver(solver, symmetric, distribution, c.model->partition().unknowns);
+    };
     // The processes on one machine share its cores.
     const int cores = static_cast<int>(std::thread::hardware_concurrency());
     if (options.threads == 0) options.threads = std::max(1, cores / session.local_size());

@@ -13,6 +13,7 @@ struct RunCommandOptions {
   int max_steps = 0;       // --max-steps: bounds the case's steps.max_steps; 0 keeps it
   std::string mpi_solver;  // "mumps" or "gmres": the distributed solver; empty: by the process count
   std::string restart_directory;  // --restart: continue the run in this directory
+  std::string partition = "graph";  // --partition: graph or contiguous (solve::Partitioning)
 };
 
 // Lowers the case's steps.max_steps to options.max_steps when that is set and smaller.

@@ -109,7 +109,7 @@ void Model::finalize() {
     for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
   owned_.clear();
-  share(element_dofs, 0);
+  share(element_dofs, 0, true);
   assembler_.set_pattern(constraints, element_dofs);
   reference_magnitude_.assign(static_cast<std::size_t>(dofs.size()), 0.0);
   for (const auto& s : shells)
@@ -138,7 +138,7 @@ void Model::rebuild_variable_elements() {
     e.first_element = assembler_.num_fixed_elements() + static_cast<int>(element_dofs.size());
     for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
   }
-  share(element_dofs, assembler_.num_fixed_elements());
+  share(element_dofs, assembler_.num_fixed_elements(), false);
   assembler_.set_variable_elements(element_dofs);
 }
 
@@ -147,17 +147,16 @@ void Model::set_distribution(const solve::Distribution* d) {
   distribution_ = d;
 }
 
-void Model::share(std::vector<std::vector<int>>& element_dofs, int first) {
+void Model::share(std::vector<std::vector<int>>& element_dofs, int first, bool fixed) {
   if (!distribution_) return;
   owned_.resize(static_cast<size_t>(first));
   const int n = constraints.num_free();
-  for (auto& element : element_dofs) {
-    int smallest = n;
-    for (int d : element)
-      for (const auto& [i, coef] : constraints.expansion(d)) smallest = std::min(smallest, i);
-    const int owner = smallest < n ? distribution_->owner(smallest, n) : 0;
+  const auto unknowns = solve::element_unknowns(constraints, element_dofs);
+  if (fixed) partition_ = solve::partition_elements(unknowns, element_dofs, n, *distribution_);
+  for (std::size_t e = 0; e < element_dofs.size(); ++e) {
+    const int owner = fixed ? partition_.element_owner[e] : solve::smallest_unknown_owner(unknowns[e], partition_.unknowns);
     owned_.push_back(owner == distribution_->rank());
-    if (!owned_.back()) element.clear();
+    if (!owned_.back()) element_dofs[e].clear();
   }
 }
 

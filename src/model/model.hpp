@@ -24,6 +24,7 @@
 #include "linalg/constraints.hpp"
 #include "linalg/distribution.hpp"
 #include "linalg/dof_map.hpp"
+#include "linalg/partition.hpp"
 #include "path/generalized_alpha.hpp"
 #include "path/nonlinear.hpp"
 
@@ -73,12 +74,15 @@ class Model : public solve::TransientSystem {
   // Call once after bodies, constraints and loads are in place.
   void finalize();
   // A distributed run (solve/distribution.hpp; set before finalize(), kept alive by the caller): each
-  // element is evaluated by one process, the owner of the smallest reduced unknown it touches (process 0
-  // for an element that touches none), and the residuals, energies, external forces and the validity of
-  // a state are summed or agreed over the processes after every evaluation. Everything the model reports
-  // is then the same on every process except tangent(), this process's summand. Null: serial.
+  // element is evaluated by one process, chosen by the distribution's partitioning (linalg/partition.hpp),
+  // and the residuals, energies, external forces and the validity of a state are summed or agreed over the
+  // processes after every evaluation. Everything the model reports is then the same on every process
+  // except tangent(), this process's summand. Null: serial.
   void set_distribution(const solve::Distribution* d);
   const solve::Distribution* distribution() const { return distribution_; }
+  // Distributed: the sharing of the elements and unknowns that finalize() made (its `unknowns` give the
+  // distributed solver's row numbering); empty in a serial run.
+  const solve::ElementPartition& partition() const { return partition_; }
 
   solve::CurveEval curve_eval() const;
   Eigen::VectorXd initial_unknowns() const { return Eigen::VectorXd::Zero(constraints.num_free()); }
@@ -139,8 +143,9 @@ class Model : public solve::TransientSystem {
   };
   void rebuild_variable_elements();
   // Distributed: records which of the elements first, first + 1, ... this process owns (owned_) and
-  // empties the DOF lists of the others, so that its assembler holds only its own elements.
-  void share(std::vector<std::vector<int>>& element_dofs, int first);
+  // empties the DOF lists of the others, so that its assembler holds only its own elements. The fixed
+  // elements (`fixed`) are partitioned (partition_); the variable ones follow the unknowns' owners.
+  void share(std::vector<std::vector<int>>& element_dofs, int first, bool fixed);
   // Distributed, after the assembly: energies, status and external forces over the processes.
   void agree(bool with_tangent);
   // eps * sqrt(sum_ij (K_ij x_j)^2) of the current tangent, x_j = |reference coordinate| + |u_j| (twists:
@@ -168,6 +173,7 @@ class Model : public solve::TransientSystem {
   PhaseTimes times_;
   const solve::Distribution* distribution_ = nullptr;
   std::vector<char> owned_;     // per assembler element: evaluated by this process (distributed only)
+  solve::ElementPartition partition_;
   bool tangent_finite_ = true;  // agreed over the processes at the last evaluation with the tangent
 };
 

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "parallel/graph_partition.hpp"
+
 namespace fibrane::parallel {
 
 void check_mpi(int code, const char* what) {
@@ -41,6 +43,10 @@ std::string MpiDistribution::first_text(const std::string& text) const {
   std::string out = rank_ == first ? text : std::string(static_cast<std::size_t>(length), ' ');
   check_mpi(MPI_Bcast(out.data(), length, MPI_CHAR, first, comm_), "MPI_Bcast");
   return out;
+}
+
+std::vector<int> MpiDistribution::partition(const solve::Graph& graph, std::string& why) const {
+  return partition_graph(graph, comm_, why);
 }
 
 }  // namespace fibrane::parallel

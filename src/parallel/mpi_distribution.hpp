@@ -16,6 +16,8 @@ class MpiDistribution final : public solve::Distribution {
   void sum(std::span<double> values) const override;
   bool all(bool value) const override;
   std::string first_text(const std::string& text) const override;
+  // PT-Scotch through PETSc's MatPartitioning (graph_partition.hpp).
+  std::vector<int> partition(const solve::Graph& graph, std::string& why) const override;
   MPI_Comm comm() const { return comm_; }
 
  private:

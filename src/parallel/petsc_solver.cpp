@@ -28,14 +28,43 @@ void check(PetscErrorCode code, const char* what) {
 
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
+// The summand in the solver's numbering: B(row(i), row(j)) = A(i, j), each column's rows sorted. `a`
+// itself when the numbering is the model's, else `storage`, which then holds B.
+const SpMat& in_solver_rows(const SpMat& a, const solve::UnknownOwnership& o, SpMat& storage) {
+  if (o.identity()) return a;
+  if (o.unknowns() != a.rows()) throw std::logic_error("PETSc solver: the unknowns' owners do not match the tangent's size");
+  const int n = static_cast<int>(a.cols());
+  storage.resize(n, n);
+  storage.resizeNonZeros(a.nonZeros());
+  int* outer = storage.outerIndexPtr();
+  outer[0] = 0;
+  for (int r = 0; r < n; ++r) {
+    const int j = o.unknown(r);
+    outer[r + 1] = outer[r] + (a.outerIndexPtr()[j + 1] - a.outerIndexPtr()[j]);
+  }
+  std::vector<std::pair<int, double>> column;
+  for (int r = 0; r < n; ++r) {
+    column.clear();
+    const int j = o.unknown(r);
+    for (SpMat::InnerIterator it(a, j); it; ++it) column.emplace_back(o.row(static_cast<int>(it.index())), it.value());
+    std::sort(column.begin(), column.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    for (std::size_t k = 0; k < column.size(); ++k) {
+      storage.innerIndexPtr()[outer[r] + static_cast<int>(k)] = column[k].first;
+      storage.valuePtr()[outer[r] + static_cast<int>(k)] = column[k].second;
+    }
+  }
+  return storage;
+}
+
 // Eigen's and PETSc's index types must agree: the summand's index arrays go to MatSetValues as they are.
 static_assert(sizeof(PetscInt) == sizeof(int) && sizeof(PetscScalar) == sizeof(double),
               "fibrane's PETSc solver expects 32-bit PetscInt and real double PetscScalar");
 
 class PetscSolver final : public solve::LinearSolver {
  public:
-  PetscSolver(const PetscSolverOptions& options, bool symmetric, const MpiDistribution& d)
-      : options_(options), symmetric_model_(symmetric), d_(d) {}
+  PetscSolver(const PetscSolverOptions& options, bool symmetric, const MpiDistribution& d,
+              const solve::UnknownOwnership& ownership)
+      : options_(options), symmetric_model_(symmetric), d_(d), own_(ownership) {}
   ~PetscSolver() override { release(); }
   PetscSolver(const PetscSolver&) = delete;
   PetscSolver& operator=(const PetscSolver&) = delete;
@@ -50,9 +79,9 @@ class PetscSolver final : public solve::LinearSolver {
 
  private:
   void release();                      // destroys the matrix, the KSP and the vectors
-  void create_matrix(const SpMat& a);  // exact preallocation from the summands' patterns
+  void create_matrix(const SpMat& b);  // exact preallocation from the summands' patterns (solver rows)
   void create_solver();                // KSP, MUMPS settings, vectors
-  void set_values(const SpMat& a);     // the sum of the summands' values into the matrix
+  void set_values(const SpMat& b);     // the sum of the summands' values (solver rows) into the matrix
   bool factor();                       // MUMPS on the current values; false if it failed
   Mat factor_matrix() const;
   int infog(int i) const;
@@ -60,6 +89,7 @@ class PetscSolver final : public solve::LinearSolver {
   PetscSolverOptions options_;
   bool symmetric_model_;
   const MpiDistribution& d_;
+  const solve::UnknownOwnership& own_;
   Mat a_ = nullptr;
   KSP ksp_ = nullptr;
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
@@ -95,13 +125,14 @@ void PetscSolver::analyze(const SpMat& a) {
     probe_.build(a);
     cholesky_ = d_.all(probe_.symmetric(a));
   }
-  create_matrix(a);
+  SpMat storage;
+  create_matrix(in_solver_rows(a, own_, storage));
   create_solver();
   ++analyses_;
 }
 
 void PetscSolver::create_matrix(const SpMat& a) {
-  const RowPattern rows = owned_rows(a, cholesky_, d_);
+  const RowPattern rows = owned_rows(a, cholesky_, own_, d_);
   const int first = rows.first, end = rows.first + rows.rows();
   std::vector<PetscInt> diagonal(static_cast<size_t>(rows.rows()), 0), off(static_cast<size_t>(rows.rows()), 0);
   for (int r = 0; r < rows.rows(); ++r)
@@ -250,7 +281,8 @@ bool PetscSolver::factorize(const SpMat& a) {
   if (a_) FIBRANE_PETSC(MatGetSize(a_, &rows, nullptr));
   if (rows != static_cast<PetscInt>(a.rows())) analyze(a);  // analyze() is the caller's duty; a new size is caught
   else if (!symmetric_model_ && d_.all(probe_.symmetric(a)) != cholesky_) analyze(a);  // the symmetry changed
-  set_values(a);
+  SpMat storage;
+  set_values(in_solver_rows(a, own_, storage));
   // GMRES keeps an earlier factorisation as its preconditioner; solve() refactorises when it does not do.
   if (options_.method == PetscSolverOptions::Method::gmres && factored_) {
     PC pc;
@@ -271,7 +303,7 @@ Eigen::VectorXd PetscSolver::solve(const Eigen::VectorXd& b) const {
   FIBRANE_PETSC(VecGetOwnershipRange(b_, &first, &end));
   PetscScalar* local = nullptr;
   FIBRANE_PETSC(VecGetArray(b_, &local));
-  std::copy(b.data() + first, b.data() + end, local);
+  for (PetscInt r = first; r < end; ++r) local[r - first] = b[own_.unknown(static_cast<int>(r))];
   FIBRANE_PETSC(VecRestoreArray(b_, &local));
   FIBRANE_PETSC(KSPSolve(ksp_, b_, x_));
   KSPConvergedReason reason;
@@ -295,7 +327,7 @@ Eigen::VectorXd PetscSolver::solve(const Eigen::VectorXd& b) const {
     FIBRANE_PETSC(VecScatterEnd(to_all_, x_, x_all_, INSERT_VALUES, SCATTER_FORWARD));
     const PetscScalar* all = nullptr;
     FIBRANE_PETSC(VecGetArrayRead(x_all_, &all));
-    std::copy(all, all + n, x.data());
+    for (int r = 0; r < static_cast<int>(n); ++r) x[own_.unknown(r)] = all[r];
     FIBRANE_PETSC(VecRestoreArrayRead(x_all_, &all));
   }
   solve_seconds_ += seconds_since(start);
@@ -331,8 +363,9 @@ std::string PetscSolver::analysis_summary() const {
 }  // namespace
 
 std::unique_ptr<solve::LinearSolver> make_petsc_solver(const PetscSolverOptions& options, bool symmetric,
-                                                       const MpiDistribution& distribution) {
-  return std::make_unique<PetscSolver>(options, symmetric, distribution);
+                                                       const MpiDistribution& distribution,
+                                                       const solve::UnknownOwnership& ownership) {
+  return std::make_unique<PetscSolver>(options, symmetric, distribution, ownership);
 }
 
 }  // namespace fibrane::parallel

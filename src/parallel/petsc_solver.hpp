@@ -1,9 +1,10 @@
 #pragma once
 // A solve::LinearSolver for distributed runs. The matrix it is given is this process's summand of the
-// tangent (model/model.hpp); the tangent is their sum, assembled into a PETSc matrix distributed by rows
-// in the processes' contiguous ranges (solve::Distribution::range_begin), with the summands' entries
+// tangent (model/model.hpp) in the model's numbering; the tangent is their sum, assembled into a PETSc
+// matrix whose rows are the unknowns renumbered so that each process's owned unknowns
+// (solve::UnknownOwnership, the model's partition) are a contiguous range, with the summands' entries
 // that fall into other processes' rows sent there by PETSc (MatSetValues, ADD_VALUES), and factorised
-// by MUMPS (MPI) behind a KSP:
+// by MUMPS (MPI) behind a KSP. Right-hand sides and solutions are in the model's numbering.
 // - symmetric tangents: MATSBAIJ (one triangle, taken from the summands' lower triangles as the serial
 //   solvers read them) and MUMPS's LDL^T with pivoting (SYM = 2), which counts the negative eigenvalues
 //   (MatGetInertia; with the root front factorised without ScaLAPACK, ICNTL(13) = 1, which the count
@@ -34,9 +35,11 @@ struct PetscSolverOptions {
   double relative_tolerance = 1e-10;
 };
 
-// `symmetric`: the model promises symmetric tangents (model::Model::symmetric()). `distribution` must
-// outlive the solver, and PETSc must be initialised (parallel::Session) for the solver's lifetime.
+// `symmetric`: the model promises symmetric tangents (model::Model::symmetric()). `distribution` and
+// `ownership` (the model's partition().unknowns) must outlive the solver, and PETSc must be initialised
+// (parallel::Session) for the solver's lifetime.
 std::unique_ptr<solve::LinearSolver> make_petsc_solver(const PetscSolverOptions& options, bool symmetric,
-                                                       const MpiDistribution& distribution);
+                                                       const MpiDistribution& distribution,
+                                                       const solve::UnknownOwnership& ownership);
 
 }  // namespace fibrane::parallel

@@ -24,13 +24,13 @@ void pack_columns(const Eigen::SparseMatrix<double>& a, int first, int end, bool
 
 }  // namespace
 
-RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const MpiDistribution& d) {
-  const int n = static_cast<int>(summand.cols());
+RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const solve::UnknownOwnership& ownership,
+                      const MpiDistribution& d) {
   const int p_count = d.size();
   // Columns of this summand, grouped by the process owning them (as rows).
   std::vector<int> send, send_counts(static_cast<size_t>(p_count)), send_offsets(static_cast<size_t>(p_count) + 1, 0);
   for (int p = 0; p < p_count; ++p) {
-    pack_columns(summand, d.range_begin(p, n), d.range_begin(p + 1, n), upper, send);
+    pack_columns(summand, ownership.begin(p), ownership.begin(p + 1), upper, send);
     send_offsets[static_cast<size_t>(p) + 1] = static_cast<int>(send.size());
     send_counts[static_cast<size_t>(p)] = send_offsets[static_cast<size_t>(p) + 1] - send_offsets[static_cast<size_t>(p)];
   }
@@ -44,8 +44,8 @@ RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, co
   std::vector<int>().swap(send);
   // Merge: the rows of every owned column (= the columns of the owned row), sorted, without repeats.
   RowPattern out;
-  out.first = d.range_begin(d.rank(), n);
-  const int rows = d.range_begin(d.rank() + 1, n) - out.first;
+  out.first = ownership.begin(d.rank());
+  const int rows = ownership.count(d.rank());
   std::vector<std::vector<int>> row_columns(static_cast<size_t>(rows));
   for (std::size_t k = 0; k < received.size();) {
     const int j = received[k], count = received[k + 1];

@@ -1,6 +1,7 @@
 #pragma once
 // The sparsity pattern of this process's rows of a matrix that is the sum of the processes' summands
-// (each process's tangent summand, model/model.hpp), for the exact preallocation of PETSc's matrix.
+// (each process's tangent summand, model/model.hpp, in the solver's numbering), for the exact
+// preallocation of PETSc's matrix.
 #include <vector>
 
 #include <Eigen/SparseCore>
@@ -17,10 +18,11 @@ struct RowPattern {
   int rows() const { return static_cast<int>(begin.size()) - 1; }
 };
 
-// Collective. This process's rows (distribution.range_begin) of the union of every process's `summand`
-// pattern, columns >= row only when `upper` (symmetric storage). Every summand must have a symmetric
-// pattern (element blocks): the columns of row i are then the rows of column i, so each process sends
-// the columns of its summand that fall into another process's range to that process.
-RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const MpiDistribution& distribution);
+// Collective. This process's rows (ownership.begin) of the union of every process's `summand` pattern,
+// columns >= row only when `upper` (symmetric storage). Every summand must have a symmetric pattern
+// (element blocks): the columns of row i are then the rows of column i, so each process sends the columns
+// of its summand that fall into another process's rows to that process.
+RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const solve::UnknownOwnership& ownership,
+                      const MpiDistribution& distribution);
 
 }  // namespace fibrane::parallel

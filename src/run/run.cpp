@@ -23,6 +23,7 @@
 #include "run/checkpoint.hpp"
 #include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
+#include "run/partition_report.hpp"
 #include "run/run_checks.hpp"
 #include "case/case_methods.hpp"
 #include "linalg/linear_solver.hpp"
@@ -367,6 +368,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   extra.set("restarted_from_step", restart ? restart->step : -1);
   extra.set("checkpoints", run.checkpoint_json());
   if (summary.interrupted_by) extra.set("interrupted", signal_name(summary.interrupted_by));
+  if (d) extra.set("partition", partition_json(c.model->partition()));
   run.write_summary(summary, extra);
   return summary;
 }

@@ -25,7 +25,7 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from mpi_history import case_text, mpi_environment, run
+from mpi_common import case_text, mpi_environment, run
 
 TOLERANCE = 1e-12
 

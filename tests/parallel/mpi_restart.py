@@ -27,7 +27,7 @@ import subprocess
 import sys
 import time
 
-from mpi_history import case_text, compare, mpi_environment, read_history, run
+from mpi_common import case_text, compare, mpi_environment, read_history, run
 
 ROWS = 6  # history rows (the initial state and 5 steps) before a run is interrupted
 SAME_COUNT, OTHER_COUNT = 1e-10, 1e-8
