@@ -8,6 +8,7 @@
 #include <random>
 
 #include "case_runner.hpp"
+#include "model/coupling.hpp"
 #include "path/newmark.hpp"
 
 namespace fibrane::testing {
@@ -24,9 +25,11 @@ Eigen::VectorXd values(const Eigen::SparseMatrix<double>& k) {
   return Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros());
 }
 
-// Evaluates two models of `yaml` (the coloured and the buffered assembly) at `states` random states,
-// entries of q uniform in +-amplitude; with `dynamic`, inside a time step with random reference vectors.
-void expect_equal_evaluations(const std::string& name, const std::string& yaml, double amplitude, bool dynamic) {
+// Evaluates two models of `yaml` (the coloured and the buffered assembly) at 3 random states, entries of q
+// uniform in +-amplitude; with `dynamic`, inside a time step with random reference vectors. `prepare` runs
+// on each model first.
+void expect_equal_evaluations(const std::string& name, const std::string& yaml, double amplitude, bool dynamic,
+                              const std::function<void(model::Model&)>& prepare = {}) {
   const auto dir = fresh_directory(name);
   std::ofstream(dir / "case.yaml") << yaml;
   auto coloured = casefile::read_case((dir / "case.yaml").string());
@@ -36,6 +39,10 @@ void expect_equal_evaluations(const std::string& name, const std::string& yaml, 
   b.set_assembly(SparseAssembler::Strategy::ThreadBuffers);
   const int threads = omp_get_max_threads();
   omp_set_num_threads(2);
+  if (prepare) {
+    prepare(a);
+    prepare(b);
+  }
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> uniform(-1, 1);
   const int n_full = a.dofs.size();
@@ -76,6 +83,19 @@ TEST(ColouredAssembly, BendingExampleEqualsTheBufferedAssembly) {
   expect_equal_evaluations("coloured-bending", example_text("bending.yaml", {
       {"elements: [100, 100]", "elements: [12, 12]"},
       {"elements: 400", "elements: 48"}}), 0.02, false);
+}
+
+// Every beam point on the soft minimum (`below: 2`, switched at the first accepted state): the soft element's
+// overlapping sub-blocks are added after its parallel loop, still without a per-thread copy.
+TEST(ColouredAssembly, SoftMinimumPointsEqualTheBufferedAssembly) {
+  expect_equal_evaluations("coloured-soft", beam_over_panel_case(", soft_minimum: {width: 5.0e-3, below: 2}"), 0.005,
+                           false, [](model::Model& m) {
+                             const Eigen::VectorXd q = Eigen::VectorXd::Zero(m.size());
+                             m.evaluate(q, 1.0, true);
+                             m.accept(q, 1.0);
+                             m.evaluate(q, 1.0, true);
+                             ASSERT_GT(m.interactions_of<model::Coupling>()[0]->soft_points(), 10);
+                           });
 }
 
 TEST(ColouredAssembly, DynamicSnapToContactEqualsTheBufferedAssembly) {
