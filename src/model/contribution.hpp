@@ -83,8 +83,8 @@ class ElementSink {
   // A contribution's element loop, inside its OpenMP parallel region (every thread of the team calls it, as
   // it would a `#pragma omp for schedule(static, chunk)` over e = 0 .. n - 1): body(e) for every element,
   // shared among the threads in chunks of `chunk`. Where the assembler colours its elements (Strategy::
-  // Colours, outermost parallel region), it runs colour by colour with a barrier between colours, and
-  // body(e) adds to element e only: those adds write straight into the matrix.
+  // Colours, outermost parallel region, more than one thread), it runs colour by colour with a barrier
+  // between colours, and body(e) adds to element e only: those adds write straight into the matrix.
   void for_each_element(int n, int chunk, const std::function<void(int)>& body);
   // Thread-safe. `k` may be null (residual only).
   void add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k);

@@ -31,7 +31,10 @@ void ElementSink::sum(std::span<double> values) const {
 }
 
 void ElementSink::for_each_element(int n, int chunk, const std::function<void(int)>& body) {
-  if (assembler_.strategy() != solve::SparseAssembler::Strategy::Colours || omp_get_level() > 1) {
+  // One thread has nothing to keep apart: element order (the matrix's locality, and the sums of the
+  // buffered assembly).
+  if (assembler_.strategy() != solve::SparseAssembler::Strategy::Colours || omp_get_level() > 1 ||
+      omp_get_num_threads() == 1) {
 #pragma omp for schedule(static, chunk)
     for (int e = 0; e < n; ++e) body(e);
     return;
