@@ -1,9 +1,9 @@
 // Where a Newton iteration spends its time, for any case and mesh:
-//   bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--replace FROM TO]...
+//   bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--assembly A] [--replace FROM TO]...
 // runs the case's continuation (no output files) and prints one table: DOFs, matrix and factor non-zeros,
 // and per Newton iteration the time of shell assembly, beam assembly, interaction (projection/search and
 // assembly), pattern work, the rest of the evaluation, symbolic analysis, numeric factorisation and solve,
-// plus the Newton iterations per step and the peak memory.
+// plus the Newton iterations per step, the assembly's per-thread buffers and the peak memory.
 #include <omp.h>
 
 #include <chrono>
@@ -100,10 +100,12 @@ long peak_memory_kib() {
 
 int main(int argc, char** argv) {
   const char* usage =
-      "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--replace FROM TO]...\n"
+      "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--assembly A]\n"
+      "                              [--replace FROM TO]...\n"
       "  runs the case's continuation method (steps.method) without output files and prints where the time goes\n"
       "  --t-end T: end the run at t = T (load stepping, arc-length)\n"
-      "  --reuse R: steps.reuse_factorization for this run (default: the case's; 0 times plain Newton)\n";
+      "  --reuse R: steps.reuse_factorization for this run (default: the case's; 0 times plain Newton)\n"
+      "  --assembly A: how threads share the assembly: colours (the default) or buffers (per-thread copies)\n";
   if (help_requested(argc, argv, usage)) return 0;
   if (argc < 2) {
     std::cerr << usage;
@@ -111,15 +113,21 @@ int main(int argc, char** argv) {
   }
   std::string path = argv[1];
   double t_end = -1, reuse = -1;
+  std::string assembly = "colours";
   std::vector<std::pair<std::string, std::string>> edits;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--t-end" && i + 1 < argc) t_end = std::stod(argv[++i]);
     else if (a == "--reuse" && i + 1 < argc) reuse = std::stod(argv[++i]);
+    else if (a == "--assembly" && i + 1 < argc) assembly = argv[++i];
     else if (!common_option(argc, argv, i, edits)) {
       std::cerr << "unknown argument " << a << "\n";
       return 2;
     }
+  }
+  if (assembly != "colours" && assembly != "buffers") {
+    std::cerr << "--assembly: colours or buffers, not '" << assembly << "'\n";
+    return 2;
   }
   try {
     path = edited_case(path, edits);
@@ -131,6 +139,7 @@ int main(int argc, char** argv) {
   auto& m = *c.model;
   if (t_end > 0) c.run.steps.t_end = c.run.arc_length.t_end = t_end;
   if (reuse >= 0) c.run.newton.reuse_below = reuse;
+  if (assembly == "buffers") m.set_assembly(fibrane::solve::SparseAssembler::Strategy::ThreadBuffers);
   TimedSolver solver(fibrane::solve::make_linear_solver(c.run.linear_solver, m.symmetric()));
   Eigen::VectorXd q = m.initial_unknowns();
   m.reset_times();
@@ -153,8 +162,9 @@ int main(int argc, char** argv) {
   if (!iterations.empty()) mean_iterations /= iterations.size();
   const double not_factorisation = pt.shell + pt.beam + pt.projection + pt.interaction + pt.pattern + pt.other +
                                    solver.analyze_ + solver.solve_;
-  fmt::print("case {}: {} ({}, {}, {} threads)\n", c.path, result.completed() ? "completed" : result.message,
-             method->name(), solver.name(), omp_get_max_threads());
+  fmt::print("case {}: {} ({}, {}, {} threads, assembly {})\n", c.path,
+             result.completed() ? "completed" : result.message, method->name(), solver.name(), omp_get_max_threads(),
+             assembly);
   fmt::print("| quantity | value |\n|---|---|\n");
   fmt::print("| DOFs (all / free) | {} / {} |\n", m.dofs.size(), m.size());
   fmt::print("| matrix non-zeros (first / last factorisation) | {} / {} |\n", solver.first_nnz, solver.nnz);
@@ -183,6 +193,7 @@ int main(int argc, char** argv) {
   fmt::print("| residual-only evaluations | {} |\n", pt.evaluations - pt.tangents);
   fmt::print("| updates of converged steps / factorisations (reuse {}) | {} / {} |\n", c.run.newton.reuse_below,
              updates, solver.factorizations);
+  fmt::print("| assembly buffers at the end | {:.1f} MiB |\n", m.assembly_buffer_bytes() / 1048576.0);
   fmt::print("| wall time | {:.2f} s |\n| peak memory | {:.1f} MiB |\n", wall, peak_memory_kib() / 1024.0);
   return result.completed() ? 0 : 1;
 }

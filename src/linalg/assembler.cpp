@@ -28,20 +28,16 @@ void SparseAssembler::begin(bool with_matrix, const Eigen::VectorXd* prescribed_
   const size_t nnz = static_cast<size_t>(matrix_.nonZeros());
   const size_t n = static_cast<size_t>(full_residual_.size());
   if (prescribed_rate) full_rate_.setZero(static_cast<Eigen::Index>(n));
-  auto reset = [&](Buffer& b) {
-    if (with_matrix && b.values.capacity() < nnz) b.values.reserve(nnz + nnz / 10);
-    b.values.assign(with_matrix ? nnz : 0, 0.0);
-    b.residual.assign(n, 0.0);
-    b.rate.assign(prescribed_rate ? n : 0, 0.0);
-    b.used = false;
-  };
-  buffers_.resize(strategy_ == Strategy::ThreadBuffers ? static_cast<size_t>(omp_get_max_threads()) : 0);
-  auto stale = [&](const Buffer& b) {
-    return b.used || b.residual.size() != n || (with_matrix && b.values.size() != nnz) ||
-           (prescribed_rate && b.rate.size() != n);
-  };
-  for (size_t i = 1; i < buffers_.size(); ++i)
-    if (stale(buffers_[i])) reset(buffers_[i]);
+  buffers_.resize(strategy_ == Strategy::Atomic ? 0 : static_cast<size_t>(omp_get_max_threads()));
+  // A thread's buffer is allocated at its first add (thread_buffer): threads that add nothing, or only
+  // inside coloured loops, cost no memory. Buffers from earlier passes are resized or cleaned here.
+  for (size_t i = 1; i < buffers_.size(); ++i) {
+    Buffer& b = buffers_[i];
+    if (b.residual.empty()) continue;
+    if (b.used || b.residual.size() != n || (with_matrix && b.values.size() != nnz) ||
+        (prescribed_rate && b.rate.size() != n))
+      reset(b);
+  }
   // The overflow buffer's matrix values (a copy of the whole value array) are allocated by its first
   // caller with an element matrix (overflow_values), which is rare: most runs never need them.
   if (overflow_.used || overflow_.residual.size() != n || (prescribed_rate && overflow_.rate.size() != n)) {
@@ -60,12 +56,27 @@ double* SparseAssembler::overflow_values() {
   return overflow_.values.data();
 }
 
+void SparseAssembler::reset(Buffer& b) const {
+  const size_t nnz = static_cast<size_t>(matrix_.nonZeros());
+  const size_t n = static_cast<size_t>(full_residual_.size());
+  if (with_matrix_ && b.values.capacity() < nnz) b.values.reserve(nnz + nnz / 10);
+  b.values.assign(with_matrix_ ? nnz : 0, 0.0);
+  b.residual.assign(n, 0.0);
+  b.rate.assign(prescribed_rate_ ? n : 0, 0.0);
+  b.used = false;
+}
+
 SparseAssembler::Buffer* SparseAssembler::thread_buffer() {
   // Thread numbers identify a buffer only in the outermost parallel region (level <= 1).
-  if (strategy_ != Strategy::ThreadBuffers || omp_get_level() > 1) return nullptr;
+  if (strategy_ == Strategy::Atomic || omp_get_level() > 1) return nullptr;
   const size_t tid = static_cast<size_t>(omp_get_thread_num());
   if (tid == 0 || tid >= buffers_.size()) return nullptr;
-  return &buffers_[tid];
+  Buffer& b = buffers_[tid];
+  const size_t n = static_cast<size_t>(full_residual_.size());
+  if (b.residual.size() != n || (with_matrix_ && b.values.size() != static_cast<size_t>(matrix_.nonZeros())) ||
+      (prescribed_rate_ && b.rate.size() != n))
+    reset(b);  // first use since the pattern (or the kind of pass) changed: end() keeps it zeroed after
+  return &b;
 }
 
 template <class Local>
@@ -154,6 +165,10 @@ void SparseAssembler::add_block(int element, int n, Local local, const Eigen::Ve
       throw std::out_of_range("SparseAssembler::add: local DOF outside element " + std::to_string(element));
   if (strategy_ == Strategy::Atomic) {
     scatter(t, e, n, local, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), full_rate_.data(), true);
+    return;
+  }
+  if (strategy_ == Strategy::Colours && exclusive(element)) {
+    scatter(t, e, n, local, r_local, k_local, matrix_.valuePtr(), full_residual_.data(), full_rate_.data(), false);
     return;
   }
   const bool outermost = omp_get_level() <= 1;

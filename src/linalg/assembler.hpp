@@ -5,19 +5,24 @@
 //
 // The elements come in two groups. The fixed ones (shell, beam, loads) are set once with set_pattern(); the
 // variable ones (the beam-shell coupling, which changes as points slide and switch) are replaced with
-// set_variable_elements(), which merges their blocks into the fixed pattern without rebuilding it: at the
-// bending example's paper mesh (40.7 M fixed non-zeros) a full rebuild took ~5.3 s, a variable-only one is
-// measured in docs/performance.md. For every element a table of positions into the matrix value array is
-// kept, so add() is a pure scatter without searching. The positions are offsets within their column, so
-// that a new variable part moves only the fixed entries of the columns where variable rows come before
-// them (the shell's columns under soft-minimum windows; beam rows follow the shell's in every column).
-// Concurrency: each OpenMP thread scatters into its own value/residual buffer (thread 0 straight into the
-// matrix), end() sums and clears them in one pass. Measured scatter-only on a cubic-shell-like pattern
-// (9409 elements of 48 DOFs, 4.2 M nonzeros): 26 ms plain, 128 ms with `omp atomic` adds (1 thread), i.e.
-// atomics cost ~5x per add, while a buffer costs one pass over the value array in end() (~11 ms). A 2-thread
-// speed-up could not be measured on the shared build machine (the second core was busy), so the choice
-// rests on the per-operation costs. Atomic adds stay selectable and are the fallback for callers inside
-// nested parallel regions, where thread numbers are not unique.
+// set_variable_elements(), which merges their blocks into the fixed pattern without rebuilding it (the two
+// are compared in docs/performance.md, "Sparse assembler"). For every element a table of positions into the
+// matrix value array is kept, so add() is a pure scatter without searching. The positions are offsets within
+// their column, so that a new variable part moves only the fixed entries of the columns where variable rows
+// come before them (the shell's columns under soft-minimum windows; beam rows follow the shell's in every
+// column).
+// Concurrency, by strategy:
+// - Colours (the default): the elements are coloured when they are set (greedily, in id order), so that
+//   elements of one colour share no DOF and no reduced unknown and hence write no common matrix value,
+//   residual or rate entry. A contribution's loop visits its elements colour by colour (coloured(), a
+//   barrier between colours), and an add() of the visited element (Exclusive) writes straight into the
+//   matrix: no per-thread copy of the values, and the sums come in colour order whatever the thread count.
+//   Adds outside such a loop take the ThreadBuffers path.
+// - ThreadBuffers: each OpenMP thread scatters into its own value/residual buffer (thread 0 straight into
+//   the matrix, the others' buffers allocated at their first add), end() sums and clears them in one pass.
+// - Atomic: `omp atomic` adds into the shared arrays.
+// Callers inside nested parallel regions, where thread numbers are not unique, add atomically into a
+// shared overflow buffer.
 #include <span>
 #include <vector>
 
@@ -31,7 +36,7 @@ namespace fibrane::solve {
 
 class SparseAssembler {
  public:
-  enum class Strategy { ThreadBuffers, Atomic };
+  enum class Strategy { Colours, ThreadBuffers, Atomic };
 
   void set_strategy(Strategy s) { strategy_ = s; }
   Strategy strategy() const { return strategy_; }
@@ -67,6 +72,26 @@ class SparseAssembler {
   // process holds the whole residual; the matrix stays this process's summand.
   void end(const Distribution* distribution = nullptr);
 
+  // The colouring: colours 0 .. num_colours() - 1 (the fixed elements' first, then the variable ones').
+  // Elements of one colour share no DOF and no reduced unknown.
+  int num_colours() const { return static_cast<int>(colour_begin_.size()) - 1; }
+  // The elements of `colour` among first, ..., first + count - 1, ascending.
+  std::span<const int> coloured(int colour, int first, int count) const;
+  // While alive, the calling thread's add() of `element` writes straight into the matrix (Strategy::
+  // Colours; ignored otherwise), and an add() of another element by this thread is a std::logic_error.
+  // Only for a loop over one colour of coloured() that every thread of the team runs, with no other adds
+  // to this assembler going on at the same time.
+  class Exclusive {
+   public:
+    Exclusive(const SparseAssembler& a, int element);
+    ~Exclusive();
+    Exclusive(const Exclusive&) = delete;
+    Exclusive& operator=(const Exclusive&) = delete;
+  };
+
+  // Bytes held by the per-thread and overflow buffers (their capacity).
+  std::size_t buffer_bytes() const;
+
   const Eigen::SparseMatrix<double>& matrix() const { return matrix_; }
   const Eigen::VectorXd& reduced_residual() const { return reduced_residual_; }
   const Eigen::VectorXd& full_residual() const { return full_residual_; }
@@ -100,11 +125,21 @@ class SparseAssembler {
   // The union of `base` and the elements' blocks; base_position[k] = where base entry k went.
   static Pattern merge(int n, const Pattern& base, const ElementTable& t, std::vector<int>& base_position);
   static void locate(ElementTable& t, const Pattern& p);  // fills t.offset
+  // Greedy colouring: each element gets the smallest colour that no earlier element sharing a DOF or a
+  // reduced unknown has.
+  static std::vector<int> colour_elements(const ElementTable& t, int num_dofs, int num_free);
+  // Appends t's elements (ids first, first + 1, ...) as new colours to colour_order_ / colour_begin_.
+  void append_colours(const ElementTable& t, int first);
+  // Whether the calling thread holds an Exclusive for `element` (a logic_error for another element).
+  bool exclusive(int element) const;
   void set_matrix(const Pattern& p);
   void reset_vectors();
 
-  // Buffer of the calling thread, or nullptr when the caller must use atomics on the shared arrays.
+  // Buffer of the calling thread (allocated or zeroed at its first use), or nullptr when the caller must use
+  // atomics on the shared arrays.
   Buffer* thread_buffer();
+  // Sizes `b` for the current begin() and zeroes it.
+  void reset(Buffer& b) const;
   // The overflow buffer's matrix values, allocated (zeroed) by the first caller after a pattern change.
   double* overflow_values();
   // Scatters element e's sub-block local(0), ..., local(n - 1).
@@ -119,13 +154,17 @@ class SparseAssembler {
   void add_block(int element, int n, Local local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
 
   const ConstraintSet* constraints_ = nullptr;
-  Strategy strategy_ = Strategy::ThreadBuffers;
+  Strategy strategy_ = Strategy::Colours;
   int version_ = 0;
   bool with_matrix_ = false;
 
   ElementTable fixed_, variable_;
   Pattern fixed_pattern_;                // the fixed elements' blocks alone
   std::vector<int> fixed_in_matrix_;     // position in matrix_ of every fixed_pattern_ entry
+  // Element ids by colour (ascending within a colour): colour c is colour_order_[colour_begin_[c] ...
+  // colour_begin_[c + 1]); the fixed elements' colours are the first fixed_colours_.
+  std::vector<int> colour_order_, colour_begin_{0};
+  int fixed_colours_ = 0;
 
   Eigen::SparseMatrix<double> matrix_;
   Eigen::VectorXd full_residual_, reduced_residual_;

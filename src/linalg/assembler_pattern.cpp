@@ -129,8 +129,8 @@ void SparseAssembler::locate(ElementTable& t, const Pattern& p) {
 }
 
 // The matrix and the thread buffers keep their storage across patterns (with 10 % slack when they grow):
-// at the bending example's paper mesh a new pattern of ~54 M entries otherwise cost ~0.5 s of fresh
-// allocations and page faults.
+// fresh storage for every new pattern costs allocations and page faults (docs/performance.md, "Sparse
+// assembler").
 void SparseAssembler::set_matrix(const Pattern& p) {
   const int n = static_cast<int>(p.outer.size()) - 1;
   // A larger pattern needs new storage: the old is freed first (its values are not kept), so that the two
@@ -163,6 +163,10 @@ void SparseAssembler::set_pattern(const ConstraintSet& c, const std::vector<std:
   set_matrix(fixed_pattern_);
   fixed_in_matrix_.resize(fixed_pattern_.inner.size());
   std::iota(fixed_in_matrix_.begin(), fixed_in_matrix_.end(), 0);
+  colour_order_.clear();
+  colour_begin_.assign(1, 0);
+  append_colours(fixed_, 0);
+  fixed_colours_ = num_colours();
   reset_vectors();
 }
 
@@ -202,6 +206,9 @@ void SparseAssembler::set_variable_elements(const std::vector<std::vector<int>>&
   fixed_in_matrix_ = std::move(fixed_position);
   locate(variable_, p);
   set_matrix(p);
+  colour_begin_.resize(static_cast<size_t>(fixed_colours_) + 1);
+  colour_order_.resize(static_cast<size_t>(colour_begin_.back()));
+  append_colours(variable_, fixed_.size());
   reset_vectors();
 }
 

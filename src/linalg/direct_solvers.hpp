@@ -9,6 +9,12 @@
 
 namespace fibrane::solve {
 
+// fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
+// iteration); a new pattern's factor is larger and rarely fits the old one's place. So every direct
+// solver's analyze() frees the last factor and then hands the freed memory back to the system
+// (malloc_trim), before the new factor is made, instead of adding to the peak.
+void hand_back_freed_memory();
+
 // CHOLMOD supernodal LL^T of the lower triangle (symmetric positive definite). Name "cholmod";
 // negative_eigenvalues() is 0 after a successful factorisation (a Cholesky factor exists only for a
 // positive definite matrix; CHOLMOD stops at the first non-positive pivot).

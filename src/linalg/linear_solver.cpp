@@ -15,40 +15,38 @@
 #include "linalg/symmetry_probe.hpp"
 
 namespace fibrane::solve {
+
+void hand_back_freed_memory() { malloc_trim(0); }
+
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
-// iteration); a new pattern's factor is larger and rarely fits the old one's place, so the freed factors
-// are handed back at each new analysis, before the new factor is made, instead of adding to the peak.
-void hand_back_freed_memory() { malloc_trim(0); }
-
 // LL^T first, then a symmetric indefinite factorisation. An indefinite tangent is often a single wild
 // Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
-// indefinite, and staying on LU afterwards cost 4.5 s per iteration against 1.9 s for LL^T. Past a limit
-// point, though, every tangent is indefinite, and a failed LL^T attempt costs up to a factorisation (CHOLMOD
-// stops at the first non-positive pivot, which for a few negative eigenvalues comes late). So after a
-// matrix that the fallback found indefinite, the next one goes to the fallback first, and LL^T is first
-// again once the fallback finds a matrix positive definite (negative_eigenvalues() == 0).
+// indefinite, and staying on LU afterwards cost more per iteration than LL^T (docs/performance.md,
+// "Linear solver"). Past a limit point, though, every tangent is indefinite, and a failed LL^T attempt
+// costs up to a factorisation (CHOLMOD stops at the first non-positive pivot, which for a few negative
+// eigenvalues comes late). So after a matrix that the fallback found indefinite, the next one goes to the
+// fallback first, and LL^T is first again once the fallback finds a matrix positive definite
+// (negative_eigenvalues() == 0).
 // The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS: it gives the inertia at any size,
 // its analysis takes CHOLMOD's pivot order (METIS or AMD, already computed for LL^T; on the bending
-// example at 155 k unknowns MUMPS's own choice, AMF, took 3-4 times CHOLMOD's whole analysis and gave 7 %
+// example at 155 k unknowns MUMPS's own choice, AMF, took longer than CHOLMOD's whole analysis and gave 7 %
 // more factor entries, 73.2 M against 68.3 M), and its failure means a numerically singular matrix, which
 // is final. Without MUMPS it is CHOLMOD's simplicial LDL^T up to kSimplicialLimit unknowns, then
-// UMFPACK's LU (no inertia, so never tried first): the simplicial LDL^T has no BLAS-3 kernels (on the
-// bending example at 400 x 100 x 100, 273 k unknowns, one factorisation did not finish in 10 minutes),
+// UMFPACK's LU (no inertia, so never tried first): the simplicial LDL^T has no BLAS-3 kernels (impractical
+// on the bending example at 400 x 100 x 100, 273 k unknowns: docs/performance.md, "Linear solver"),
 // and without pivoting it can fail where LU does not. The fallbacks keep their symbolic analysis until
 // the next analyze().
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
   void analyze(const SpMat& a) override {
+    fallback_.reset();  // first, so that llt_'s hand-back (direct_solvers.hpp) includes its factor
     if (!llt_) llt_ = make_cholmod_llt();
-    llt_->analyze(a);  // frees the last numeric factor
-    fallback_.reset();
+    llt_->analyze(a);
     current_ = llt_.get();
-    hand_back_freed_memory();
   }
   bool factorize(const SpMat& a) override {
     if (!llt_) analyze(a);
@@ -135,8 +133,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       if (!lu_) lu_ = make_lu_();
       current_ = lu_.get();
     }
-    current_->analyze(a);
-    hand_back_freed_memory();
+    current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
   }
 
   Factory make_symmetric_, make_lu_;

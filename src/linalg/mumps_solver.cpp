@@ -57,26 +57,7 @@ class MumpsSolver final : public LinearSolver {
   using Real = typename Arithmetic::Real;
 
  public:
-  explicit MumpsSolver(const MumpsOptions& options) : options_(options) {
-    id_.job = -1;
-    id_.par = 1;  // the host process works
-    id_.sym = options.unsymmetric ? 0 : 2;
-    id_.comm_fortran = kUseCommWorld;
-    Arithmetic::call(&id_);
-    if (infog(1) < 0) throw std::runtime_error("MUMPS initialisation failed: INFOG(1) = " + std::to_string(infog(1)));
-    icntl(1) = -1;  // no error, diagnostic, global or statistics output
-    icntl(2) = -1;
-    icntl(3) = -1;
-    icntl(4) = 0;
-    icntl(7) = options.ordering;
-    icntl(10) = 0;
-    icntl(13) = 1;
-    icntl(24) = 0;
-    if (options.low_rank) {
-      icntl(35) = 2;
-      id_.cntl[6] = static_cast<Real>(options.low_rank_tolerance);  // CNTL(7)
-    }
-  }
+  explicit MumpsSolver(const MumpsOptions& options) : options_(options) { start(); }
   ~MumpsSolver() override {
     id_.job = -2;
     Arithmetic::call(&id_);
@@ -107,6 +88,27 @@ class MumpsSolver final : public LinearSolver {
   }
 
  private:
+  // A new MUMPS instance (JOB = -1) with fibrane's settings.
+  void start() {
+    id_.job = -1;
+    id_.par = 1;  // the host process works
+    id_.sym = options_.unsymmetric ? 0 : 2;
+    id_.comm_fortran = kUseCommWorld;
+    Arithmetic::call(&id_);
+    if (infog(1) < 0) throw std::runtime_error("MUMPS initialisation failed: INFOG(1) = " + std::to_string(infog(1)));
+    icntl(1) = -1;  // no error, diagnostic, global or statistics output
+    icntl(2) = -1;
+    icntl(3) = -1;
+    icntl(4) = 0;
+    icntl(7) = options_.ordering;
+    icntl(10) = 0;
+    icntl(13) = 1;
+    icntl(24) = 0;
+    if (options_.low_rank) {
+      icntl(35) = 2;
+      id_.cntl[6] = static_cast<Real>(options_.low_rank_tolerance);  // CNTL(7)
+    }
+  }
   // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
   int& icntl(int i) { return id_.icntl[i - 1]; }
   int infog(int i) const { return id_.infog[i - 1]; }
@@ -132,6 +134,13 @@ class MumpsSolver final : public LinearSolver {
 template <class Arithmetic>
 void MumpsSolver<Arithmetic>::analyze(const SpMat& a) {
   if (a.rows() != a.cols()) throw std::invalid_argument("MumpsSolver: the matrix is not square");
+  if (analyses_ > 0) {  // a new instance: the last factor and analysis are freed and handed back
+    id_.job = -2;
+    Arithmetic::call(&id_);
+    id_ = {};
+    start();
+    hand_back_freed_memory();
+  }
   rows_.clear();
   cols_.clear();
   positions_.clear();

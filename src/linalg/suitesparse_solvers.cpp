@@ -32,12 +32,12 @@ int negative_pivots(const cholmod_factor& f) {
 }
 
 // CHOLMOD factorisations (lower triangle of a symmetric matrix), remembering which fill-reducing ordering
-// won. CHOLMOD's default tries AMD and, where AMD's fill is high, METIS too, and keeps the better; a
-// model's later patterns differ from the first only by the beam-shell coupling, so later analyses run only
-// the method that won the first. At the bending example's paper mesh METIS wins (1 % less fill than AMD)
-// and an analysis takes 1.18 s instead of 1.37 s. (Keeping the previous permutation itself for a new
-// pattern was measured too: after a change of the coupling its factor was 4-10 % larger than a fresh
-// ordering's, which costs more in the factorisations than the ordering does.)
+// won. CHOLMOD's default tries AMD and, where AMD's fill is high, METIS too, and keeps the better; a model's
+// later patterns differ from the first only by the beam-shell coupling, so later analyses run only the method
+// that won the first. At the bending example's paper mesh METIS wins (1 % less fill than AMD), and the later
+// analyses are the faster for it (docs/performance.md, "Linear solver"). (Keeping the previous permutation
+// itself for a new pattern was measured too: after a change of the coupling its factor was 4-10 % larger than
+// a fresh ordering's, which costs more in the factorisations than the ordering does.)
 template <class Factorization>
 class CholmodSolver final : public LinearSolver {
  public:
@@ -50,7 +50,8 @@ class CholmodSolver final : public LinearSolver {
       common.nmethods = 1;
       common.method[0].ordering = chosen_;
     }
-    fact_.analyzePattern(a);
+    fact_.analyzePattern(a);  // frees the last factor
+    hand_back_freed_memory();
     if (chosen_ < 0 && fact_.info() == Eigen::Success) chosen_ = common.method[common.selected].ordering;
     ++analyses_;
     negative_ = -1;
@@ -122,7 +123,8 @@ class UmfpackSolver final : public LinearSolver {
  public:
   void analyze(const SpMat& a) override {
     a_ = a;
-    lu_.analyzePattern(a_);
+    lu_.analyzePattern(a_);  // frees the last symbolic and numeric factors
+    hand_back_freed_memory();
     status_ = lu_.status();
   }
   bool factorize(const SpMat& a) override {

@@ -7,7 +7,7 @@ namespace fibrane::solve {
 
 // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
-// (binary searches took ~1 s at the bending example's paper mesh).
+// without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
   mirror_.clear();
   structurally_symmetric_ = false;

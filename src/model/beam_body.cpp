@@ -152,8 +152,7 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
     double energy = 0.0;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
-#pragma omp for schedule(static, 8)
-    for (int e = 0; e < n_elements; ++e) error.run([&] {
+    sink.for_each_element(n_elements, 8, [&](int e) { error.run([&] {
       if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const beam::BeamDofs q = current(el.control_points, u, dofs);
@@ -168,7 +167,7 @@ double BeamBody::evaluate(const State& state, ElementSink& sink, Status& /*statu
                              with_tangent ? &k : nullptr);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    });
+    }); });
     sum.set(energy);
   }
   error.rethrow();

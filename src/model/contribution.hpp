@@ -15,6 +15,7 @@
 // returned and the residuals are summed over the processes by the model; state that evaluate() records
 // for output (a coupling's point data) is summed with sink.sum(). update(), accept() and reject() run on
 // every process for the whole model (the closest points are replicated).
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -79,6 +80,12 @@ class ElementSink {
   // depends on t explicitly (loads) add that derivative with add_rate(). The part that prescribed values
   // cause, K dg/dt, the assembler adds by itself.
   bool with_rate() const { return with_rate_; }
+  // A contribution's element loop, inside its OpenMP parallel region (every thread of the team calls it, as
+  // it would a `#pragma omp for schedule(static, chunk)` over e = 0 .. n - 1): body(e) for every element,
+  // shared among the threads in chunks of `chunk`. Where the assembler colours its elements (Strategy::
+  // Colours, outermost parallel region, more than one thread), it runs colour by colour with a barrier
+  // between colours, and body(e) adds to element e only: those adds write straight into the matrix.
+  void for_each_element(int n, int chunk, const std::function<void(int)>& body);
   // Thread-safe. `k` may be null (residual only).
   void add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k);
   // A sub-block of an element: r / k belong to its local DOFs local[0], local[1], ...

@@ -246,8 +246,7 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
     interaction::PairPoint p;
-#pragma omp for schedule(static, 4)
-    for (int k_pair = 0; k_pair < n_pairs; ++k_pair) error.run([&] {
+    sink.for_each_element(n_pairs, 4, [&](int k_pair) { error.run([&] {
       // A neighbour kept in the pattern only, or a pair another process evaluates.
       if (pair_points_[k_pair].empty() || !sink.owns(k_pair)) return;
       const auto [eb, es] = pairs_[k_pair];
@@ -283,7 +282,7 @@ double Coupling::evaluate_pairs(const State& state, ElementSink& sink, bool& bad
         }
       }
       sink.add(k_pair, r, with_tangent ? &k : nullptr);
-    });
+    }); });
     sum.set(energy);
   }
   error.rethrow();

@@ -108,7 +108,9 @@ void Coupling::request_soft_switches() {
 }
 
 double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, bool& bad) {
-  // Each soft point adds the sub-block of its support to the one soft element (after the pairs).
+  // Each soft point adds the sub-block of its support to the one soft element (after the pairs). The points
+  // are evaluated in parallel and added in their order afterwards: the sub-blocks overlap, and added from
+  // several threads they would need a per-thread copy of the matrix values (solve::SparseAssembler).
   const int n_soft = static_cast<int>(soft_.size());
   const int soft_element = static_cast<int>(pairs_.size());
   if (n_soft == 0 || !sink.owns(soft_element)) return 0.0;
@@ -116,6 +118,9 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   const solve::DofMap& dofs = state.dofs;
   const bool with_tangent = sink.with_tangent();
   const double beta = this->beta();
+  std::vector<Eigen::VectorXd> r_of(static_cast<std::size_t>(n_soft));
+  std::vector<Eigen::MatrixXd> k_of(static_cast<std::size_t>(n_soft));
+  std::vector<std::vector<int>> support_of(static_cast<std::size_t>(n_soft));
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
   FirstError error;
 #pragma omp parallel reduction(|| : bad)
@@ -129,9 +134,9 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
       const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
       const Eigen::Matrix3Xd window_x = shell_.current(sp.window.control_points, u, dofs);
       const Eigen::RowVectorXd basis = beam_.curve.basis(qp.xi, 0).R.row(0);
-      Eigen::VectorXd r;
-      Eigen::MatrixXd kt;
-      std::vector<int> support;
+      Eigen::VectorXd& r = r_of[static_cast<std::size_t>(k)];
+      Eigen::MatrixXd& kt = k_of[static_cast<std::size_t>(k)];
+      std::vector<int>& support = support_of[static_cast<std::size_t>(k)];
       try {
         double e = 0;
         Eigen::Vector3d f;
@@ -146,14 +151,18 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
         out.force = -f;
         out.position = beam_x * basis.transpose();
         for (int& i : support) i = sp.to_union[i];
-        sink.add(soft_element, support, r, with_tangent ? &kt : nullptr);
       } catch (const std::domain_error&) {
+        support.clear();
         bad = true;
       }
     });
     sum.set(energy);
   }
   error.rethrow();
+  for (int k = 0; k < n_soft; ++k) {
+    const auto p = static_cast<std::size_t>(k);
+    if (!support_of[p].empty()) sink.add(soft_element, support_of[p], r_of[p], with_tangent ? &k_of[p] : nullptr);
+  }
   return sum.total();
 }
 

@@ -84,8 +84,8 @@ double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) 
   if (!step_) return 0.0;
   const int n_elements = num_elements();
   FirstError error;
-#pragma omp parallel for schedule(static, 16)  // static: the same sums in every run
-  for (int e = 0; e < n_elements; ++e) error.run([&] {
+#pragma omp parallel
+  sink.for_each_element(n_elements, 16, [&](int e) { error.run([&] {
     if (!sink.owns(e)) return;
     const auto& d = dofs_[e];
     Eigen::VectorXd w(static_cast<Eigen::Index>(d.size()));
@@ -98,7 +98,7 @@ double Inertia::evaluate(const State& s, ElementSink& sink, Status& /*status*/) 
     } else {
       sink.add(e, r, nullptr);
     }
-  });
+  }); });
   error.rethrow();
   return 0.0;  // the kinetic energy needs the velocity: the time integrator keeps it
 }

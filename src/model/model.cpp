@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <omp.h>
+
 #include "common/error.hpp"
 
 namespace fibrane::model {
@@ -26,6 +28,28 @@ bool ElementSink::distributed() const { return distribution_ && distribution_->s
 
 void ElementSink::sum(std::span<double> values) const {
   if (distribution_) distribution_->sum(values);
+}
+
+void ElementSink::for_each_element(int n, int chunk, const std::function<void(int)>& body) {
+  // One thread has nothing to keep apart: element order (the matrix's locality, and the sums of the
+  // buffered assembly).
+  if (assembler_.strategy() != solve::SparseAssembler::Strategy::Colours || omp_get_level() > 1 ||
+      omp_get_num_threads() == 1) {
+#pragma omp for schedule(static, chunk)
+    for (int e = 0; e < n; ++e) body(e);
+    return;
+  }
+  for (int c = 0; c < assembler_.num_colours(); ++c) {
+    const std::span<const int> elements = assembler_.coloured(c, first_, n);
+    const int m = static_cast<int>(elements.size());
+    if (m == 0) continue;  // the same on every thread: no barrier
+#pragma omp for schedule(static, chunk)
+    for (int i = 0; i < m; ++i) {
+      const int element = elements[static_cast<std::size_t>(i)];
+      const solve::SparseAssembler::Exclusive visit(assembler_, element);
+      body(element - first_);
+    }
+  }
 }
 
 void ElementSink::add(int element, const Eigen::VectorXd& r, const Eigen::MatrixXd* k) {

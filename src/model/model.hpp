@@ -131,6 +131,12 @@ class Model : public solve::TransientSystem {
   double energy(EnergyKind kind) const { return energies_[static_cast<int>(kind)]; }
   double time() const { return t_; }
   int num_elements() const { return assembler_.num_elements(); }
+  // How threads share the assembly (solve::SparseAssembler::Strategy; Colours unless set).
+  void set_assembly(solve::SparseAssembler::Strategy s) { assembler_.set_strategy(s); }
+  // Bytes the assembly holds in per-thread buffers (solve::SparseAssembler::buffer_bytes).
+  std::size_t assembly_buffer_bytes() const { return assembler_.buffer_bytes(); }
+  // Colours of the assembly's elements (solve::SparseAssembler::num_colours).
+  int assembly_colours() const { return assembler_.num_colours(); }
   const PhaseTimes& times() const { return times_; }
   void reset_times() { times_ = PhaseTimes{}; }
 

@@ -76,8 +76,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
     shell::ElementTangent element_tangent;
-#pragma omp for schedule(static, 16)
-    for (int e = 0; e < n_elements; ++e) error.run([&] {
+    sink.for_each_element(n_elements, 16, [&](int e) { error.run([&] {
       if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const auto& cps = element_control_points[e];
@@ -102,7 +101,7 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
         element_tangent.add_to(k);
       }
       sink.add(e, r, with_tangent ? &k : nullptr);
-    });
+    }); });
     sum.set(energy);
   }
   error.rethrow();

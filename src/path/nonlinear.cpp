@@ -111,7 +111,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     }
     // A two-state cycle: the residual repeats every second iteration to 1e-3 (a beam point whose closest
     // point jumps between two branches at each update). It would spend the remaining iterations for
-    // nothing (at the paper's bending mesh 20 iterations, ~3 minutes); a cut-back step is the way out.
+    // nothing (docs/examples.md); a cut-back step is the way out.
     const auto& h = rep.history;
     if (h.size() >= 5 && std::abs(h[it] - h[it - 2]) <= 1e-3 * h[it] &&
         std::abs(h[it - 1] - h[it - 3]) <= 1e-3 * h[it - 1] && std::abs(h[it] - h[it - 1]) > 1e-2 * h[it]) {
