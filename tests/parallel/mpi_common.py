@@ -8,10 +8,12 @@ NAME_x, NAME_y, NAME_z) share one scale, the largest magnitude of the three: a c
 symmetry (the peeling example's net interaction force in y) holds round-off only. `residual`, the
 converged residual (round-off of each assembly, not a result), is not compared.
 """
+import argparse
 import csv
 import json
 import os
 import pathlib
+import shutil
 import subprocess
 import sys
 
@@ -39,6 +41,23 @@ CASES = {
         ("output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"),
     ], "auto"),
 }
+
+
+def driver_arguments(description, extra=None):
+    """The options every driver takes (--fibrane, --mpiexec, --examples, --work; `extra(parser)` adds its
+    own). --work is emptied and made. Returns (arguments, fibrane, work), the paths resolved."""
+    p = argparse.ArgumentParser(description=description)
+    p.add_argument("--fibrane", required=True, type=pathlib.Path)
+    p.add_argument("--mpiexec", required=True)
+    p.add_argument("--examples", required=True, type=pathlib.Path)
+    p.add_argument("--work", required=True, type=pathlib.Path)
+    if extra:
+        extra(p)
+    a = p.parse_args()
+    fibrane, work = a.fibrane.resolve(), a.work.resolve()
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    return a, fibrane, work
 
 
 def case_text(examples, name):

@@ -11,25 +11,15 @@ For the peeling and the bending example at a coarse mesh (the meshes of their C+
 within 1e-8 of the serial column's largest magnitude (relative).
 Exit 0 when all agree, 1 with the differing columns listed otherwise.
 """
-import argparse
-import pathlib
-import shutil
 import sys
 
-from mpi_common import CASES, case_text, compare, read_history, run, summary
+from mpi_common import CASES, case_text, compare, driver_arguments, read_history, run, summary
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--fibrane", required=True, type=pathlib.Path)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--examples", required=True, type=pathlib.Path)
-    p.add_argument("--work", required=True, type=pathlib.Path)
-    p.add_argument("--cases", nargs="+", default=sorted(CASES), choices=sorted(CASES))
-    a = p.parse_args()
-    a.fibrane, a.examples, a.work = a.fibrane.resolve(), a.examples.resolve(), a.work.resolve()
-    shutil.rmtree(a.work, ignore_errors=True)
-    a.work.mkdir(parents=True)
+    a, a.fibrane, a.work = driver_arguments(__doc__.splitlines()[0], lambda p: p.add_argument(
+        "--cases", nargs="+", default=sorted(CASES), choices=sorted(CASES)))
+    a.examples = a.examples.resolve()
     problems = []
     for name in a.cases:
         case = a.work / f"{name}.yaml"

@@ -14,13 +14,10 @@ and checks
 and that `fibrane run CASE --partition metis` exits with 2, names the option, and writes nothing.
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
-import argparse
-import pathlib
-import shutil
 import subprocess
 import sys
 
-from mpi_common import CASES, case_text, compare, mpi_environment, read_history, run, summary
+from mpi_common import CASES, case_text, compare, driver_arguments, mpi_environment, read_history, run, summary
 
 PROCESSES = (2, 3)
 
@@ -66,15 +63,7 @@ def bad_value(fibrane, case, work):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--fibrane", required=True, type=pathlib.Path)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--examples", required=True, type=pathlib.Path)
-    p.add_argument("--work", required=True, type=pathlib.Path)
-    a = p.parse_args()
-    fibrane, work = a.fibrane.resolve(), a.work.resolve()
-    shutil.rmtree(work, ignore_errors=True)
-    work.mkdir(parents=True)
+    a, fibrane, work = driver_arguments(__doc__.splitlines()[0])
     problems = []
     for name in sorted(CASES):
         case = work / f"{name}.yaml"

@@ -14,9 +14,6 @@ and the same of a 2-process run stopped by --max-steps 6 and continued on 3 proc
 series continue; each .pvtu names the pieces of the run that wrote it).
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
-import argparse
-import pathlib
-import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -25,7 +22,7 @@ import numpy as np
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from mpi_common import case_text, mpi_environment, run
+from mpi_common import case_text, driver_arguments, mpi_environment, run
 
 TOLERANCE = 1e-12
 
@@ -115,15 +112,7 @@ def check_directory(directory, processes, label):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--fibrane", required=True, type=pathlib.Path)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--examples", required=True, type=pathlib.Path)
-    p.add_argument("--work", required=True, type=pathlib.Path)
-    a = p.parse_args()
-    fibrane, work = a.fibrane.resolve(), a.work.resolve()
-    shutil.rmtree(work, ignore_errors=True)
-    work.mkdir(parents=True)
+    a, fibrane, work = driver_arguments(__doc__.splitlines()[0])
     case = work / "peeling.yaml"
     case.write_text(case_text(a.examples.resolve(), "peeling").replace(
         "output: {vtk: false}", "output: {vtk_every: 4, vtk_pieces: true}"))

@@ -17,7 +17,6 @@ On the peeling example at the coarse mesh of mpi_history.py (arc-length, checkpo
                 the checkpoint and summary.json are written
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
-import argparse
 import json
 import os
 import pathlib
@@ -27,7 +26,7 @@ import subprocess
 import sys
 import time
 
-from mpi_common import case_text, compare, mpi_environment, read_history, run
+from mpi_common import case_text, compare, driver_arguments, mpi_environment, read_history, run
 
 ROWS = 6  # history rows (the initial state and 5 steps) before a run is interrupted
 SAME_COUNT, OTHER_COUNT = 1e-10, 1e-8
@@ -76,15 +75,7 @@ def signal_ranks(directory, ranks, sig):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    p.add_argument("--fibrane", required=True, type=pathlib.Path)
-    p.add_argument("--mpiexec", required=True)
-    p.add_argument("--examples", required=True, type=pathlib.Path)
-    p.add_argument("--work", required=True, type=pathlib.Path)
-    a = p.parse_args()
-    fibrane, work = a.fibrane.resolve(), a.work.resolve()
-    shutil.rmtree(work, ignore_errors=True)
-    work.mkdir(parents=True)
+    a, fibrane, work = driver_arguments(__doc__.splitlines()[0])
     text = case_text(a.examples.resolve(), "peeling")
     case = work / "peeling.yaml"
     case.write_text(text)
