@@ -4,12 +4,11 @@
 //
 // Why: CHOLMOD's supernodal factorisation opens parallel regions with a fixed num_threads(4) clause for
 // every supernode, whatever omp_set_num_threads says. On a 2-core machine that is twice as many threads as
-// cores, and libgomp's default active waiting lets them spin between the many small regions: on the
-// peeling example's tangent (6602 unknowns) the factorisation took 0.11 s of CPU, of which 0.04 s system
-// time, against 0.056 s with OMP_THREAD_LIMIT=1 (bench_linear_solver, --threads 1), and on a busy
-// machine active waiting made a factorisation 4 s instead of 0.1 s. OMP_THREAD_LIMIT (the cores, or
-// --threads N) caps every region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep
-// instead of spinning. A user's own setting of either variable is kept; likewise glibc's malloc tunables below.
+// cores, and libgomp's default active waiting lets them spin between the many small regions, which costs
+// system time on an idle machine and whole factorisations' worth of time on a busy one (docs/performance.md,
+// "OpenBLAS threads: pthreads or OpenMP build"). OMP_THREAD_LIMIT (the cores, or --threads N) caps every
+// region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep instead of spinning. A
+// user's own setting of either variable is kept; likewise glibc's malloc tunables below.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -52,9 +51,8 @@ void configure_openmp_environment(int argc, char** argv) {
   }
   // glibc returns large freed blocks to the system (munmap, heap trimming), so the factorisation's and the
   // assembly's work arrays, allocated anew at every Newton iteration, fault in fresh zeroed pages each
-  // time: with these thresholds the process keeps them (paper-mesh bending, first three steps, 2 threads:
-  // minor page faults 2.99 M -> 1.42 M, wall time 60-65 s against 67-69 s, peak memory +5 %;
-  // docs/performance.md).
+  // time: with these thresholds the process keeps them, for half the page faults and a few per cent more
+  // peak memory (docs/performance.md, "The paper-mesh bending run").
   if (!std::getenv("GLIBC_TUNABLES")) {
     setenv("GLIBC_TUNABLES", "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184", 1);
     changed = true;
