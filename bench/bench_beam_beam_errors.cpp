@@ -9,38 +9,17 @@
 #include <cstdio>
 
 #include "../tests/interaction/cylinder_reference.hpp"
+#include "../tests/interaction/sbip_energies.hpp"
 #include "interaction/section_beam.hpp"
 
 namespace {
 
 using namespace fibrane;
-using interaction::SectionBeamPoint;
+using interaction::test::sbip_crossed;
+using interaction::test::sbip_parallel;
 using laws::SectionCylinderLaw;
 
 constexpr double kRa = 1.0, kRb = 0.6;
-
-// SBIP energy per unit length of two parallel fibers, axes at distance d (the two half passes).
-double sbip_parallel(const SectionCylinderLaw& law, double d) {
-  SectionBeamPoint p;
-  p.x = {0, 0, d};
-  p.r[1] = Eigen::Vector3d::UnitX();
-  return 0.5 * (interaction::section_beam(law, p).energy + interaction::section_beam(law.swapped(), p).energy);
-}
-
-// SBIP energy of two infinite fibers crossed at right angles (A along x at height d, B along y).
-double sbip_crossed(const SectionCylinderLaw& law, double d) {
-  auto pass = [&](const SectionCylinderLaw& l) {
-    auto f = [&](double s) {
-      SectionBeamPoint p;
-      p.x = {s, 0, d};
-      p.x_xi = Eigen::Vector3d::UnitX();
-      p.r[1] = Eigen::Vector3d::UnitY();
-      return interaction::section_beam(l, p).energy;
-    };
-    return 2 * interaction::test::graded_integral(f, 0.0, 40 * (l.radius_a() + l.radius_b()), 10);
-  };
-  return 0.5 * (pass(law) + pass(law.swapped()));
-}
 
 template <class Sbip, class Reference>
 void row(const char* what, double m, double g, const Sbip& sbip, const Reference& reference) {
@@ -64,7 +43,7 @@ int main() {
       row("parallel", m, g, [&](double d) { return sbip_parallel(law, d); },
           [&](double d) { return -interaction::test::parallel_cylinders(m, kRa, kRb, d, 10); });
     for (double g : gaps)
-      row("crossed", m, g, [&](double d) { return sbip_crossed(law, d); },
+      row("crossed", m, g, [&](double d) { return sbip_crossed(law, d, 10); },
           [&](double d) { return -interaction::test::crossed_cylinders(m, kRa, kRb, d, 6); });
   }
 }

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "cylinder_reference.hpp"
+#include "sbip_energies.hpp"
 #include "interaction/section_beam.hpp"
 #include "laws/disk_halfspace.hpp"
 #include "spline/curve.hpp"
@@ -23,30 +24,8 @@ using laws::SectionCylinderLaw;
 // One inverse-power term k r^-m with unit densities; radii ra, rb.
 SectionCylinderLaw power_law(double m, double k, double ra, double rb) { return {{{m, k}}, ra, rb}; }
 
-// SBIP energy per unit length of two parallel fibers, axes at distance d (the two half passes).
-double sbip_parallel(const SectionCylinderLaw& law, double d) {
-  SectionBeamPoint p;
-  p.x = {0, 0, d};
-  p.r[1] = Eigen::Vector3d::UnitX();
-  const double a = section_beam(law, p).energy;
-  const double b = section_beam(law.swapped(), p).energy;
-  return 0.5 * (a + b);
-}
-
-// SBIP energy of two infinite fibers crossed at right angles (A along x at height d, B along y).
-double sbip_crossed(const SectionCylinderLaw& law, double d, int points) {
-  auto pass = [&](const SectionCylinderLaw& l) {
-    auto f = [&](double s) {
-      SectionBeamPoint p;
-      p.x = {s, 0, d};
-      p.x_xi = Eigen::Vector3d::UnitX();
-      p.r[1] = Eigen::Vector3d::UnitY();
-      return section_beam(l, p).energy;
-    };
-    return 2 * test::graded_integral(f, 0.0, 40 * (l.radius_a() + l.radius_b()), points);
-  };
-  return 0.5 * (pass(law) + pass(law.swapped()));
-}
+using test::sbip_crossed;
+using test::sbip_parallel;
 
 // Derjaguin limits (Israelachvili ch. 13), Hamaker constant A = pi^2 C rho_A rho_B for k = -C.
 double derjaguin_crossed(double hamaker, double ra, double rb, double gap) {
@@ -115,7 +94,9 @@ void study(const char* what, double m, double energy_bound, const Sbip& sbip, co
     EXPECT_LT(4 * e.energy, previous) << what << " m = " << m << " g = " << g;
     previous = e.energy;
   }
-  if (m == 6) EXPECT_NEAR(sbip(1.6 + 1e-4) / derjaguin_at_1e4, 1.0, 5e-3) << what;
+  if (m == 6) {
+    EXPECT_NEAR(sbip(1.6 + 1e-4) / derjaguin_at_1e4, 1.0, 5e-3) << what;
+  }
 }
 
 TEST(SectionBeamVerification, ParallelFibersEnergyAndForce) {
