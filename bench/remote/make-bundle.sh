@@ -1,0 +1,42 @@
+#!/bin/bash
+# Packs the built programs for a machine without Debian's packages (the scale measurements of
+# docs/performance.md on a 16-core machine): build/app/fibrane (serial) and build-petsc/app/fibrane (PETSc,
+# as fibrane-mpi), every shared library they and Open MPI's launcher load except glibc's, and Open MPI's
+# run-time files (components, help texts, settings), which bench/remote/scale.sh puts back at the paths
+# Debian's Open MPI looks for them; xz and its library beside it, for a machine without xz.
+#
+#   bash bench/remote/make-bundle.sh [OUTPUT = devbundle/bundle.tar.xz]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+out=${1:-devbundle/bundle.tar.xz}
+stage=$(mktemp -d)
+trap 'rm -rf "$stage"' EXIT
+mkdir -p "$stage/bundle/bin" "$stage/bundle/lib" "$stage/bundle/system"
+
+cp build/app/fibrane "$stage/bundle/bin/fibrane"
+cp build-petsc/app/fibrane "$stage/bundle/bin/fibrane-mpi"
+cp "$(readlink -f /usr/bin/mpirun)" "$stage/bundle/bin/mpirun"
+cp /usr/bin/orted /usr/bin/time "$stage/bundle/bin/"
+
+multiarch=/usr/lib/x86_64-linux-gnu
+components=$(find $multiarch/openmpi/lib/openmpi3 $multiarch/pmix2/lib -name '*.so' -type f)
+glibc=$(dpkg -L libc6 | grep -o '[^/]*\.so[.0-9]*$' | sort -u)
+
+# The libraries that the programs and the components need, found by ldd, glibc's own left out.
+for f in "$stage"/bundle/bin/* $components; do
+  ldd "$f" 2>/dev/null | awk '/=> \//{print $3}'
+done | sort -u | while read -r lib; do
+  name=$(basename "$lib")
+  grep -qx "$name" <<<"$glibc" && continue
+  cp -L "$lib" "$stage/bundle/lib/$name"
+done
+
+# Open MPI's and PMIx's run-time trees, at their absolute paths (headers left out).
+tar -C / -cf "$stage/bundle/system/openmpi.tar" --exclude='*/include' \
+  "${multiarch#/}/openmpi" "${multiarch#/}/pmix2" usr/share/openmpi etc/openmpi
+
+mkdir -p "$(dirname "$out")/xz"
+tar -C "$stage" -cJf "$out" bundle
+cp /usr/bin/xz "$(readlink -f "$(ldd /usr/bin/xz | awk '/liblzma/{print $3}')")" "$(dirname "$out")/xz/"
+mv "$(dirname "$out")"/xz/liblzma.so.5.* "$(dirname "$out")/xz/liblzma.so.5"
+echo "$out: $(du -h "$out" | cut -f1), $(ls "$stage/bundle/lib" | wc -l) libraries"

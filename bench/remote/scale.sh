@@ -1,0 +1,121 @@
+#!/bin/bash
+# The scale measurements of docs/performance.md on a 16-core machine without Debian's packages, from the
+# bundle that bench/remote/make-bundle.sh packs (run from the repository root; results under $OUT):
+#   1. the full membrane at 278 k unknowns (bench/cases/bending-full-278k.yaml), one step, on
+#      1, 2, 4, 8 and 16 processes of one thread each: wall, CPU and peak memory per process;
+#   2. the quarter at the paper mesh (examples/bending.yaml), three steps: serial with 16 and 2 threads,
+#      and on 16 processes of one thread;
+#   3. the full membrane at the paper's resolution (bench/cases/bending-full-1m.yaml, 1.1 M unknowns), one
+#      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped.
+# Each part runs under a share of DEADLINE seconds (default 560) counted from the start, so that what was
+# measured comes back when the machine's time runs out. SMOKE=1 runs the same parts on coarse meshes.
+#
+#   OUT=results/remote bash bench/remote/scale.sh [BUNDLE = devbundle/bundle.tar.xz]
+set -u
+cd "$(dirname "$0")/../.."
+bundle=${1:-devbundle/bundle.tar.xz}
+: "${OUT:?OUT names the folder for the results}"
+mkdir -p "$OUT"
+start=$SECONDS
+deadline=${DEADLINE:-560}
+work=${WORK:-/tmp/fibrane-scale}
+rm -rf "$work" && mkdir -p "$work"
+log=$OUT/scale.txt
+say() { echo "$*" | tee -a "$log"; }
+
+# The programs, their libraries, and Open MPI's run-time files where Debian's Open MPI looks for them
+# (a tree of the machine's own at those paths is moved aside).
+# xz from beside the bundle where the machine has none.
+xz=xz; command -v xz > /dev/null || xz=$(dirname "$bundle")/xz/xz
+LD_LIBRARY_PATH=$(dirname "$bundle")/xz "$xz" -dc "$bundle" | tar -C "$work" -x || exit 1
+for d in /usr/lib/x86_64-linux-gnu/openmpi /usr/lib/x86_64-linux-gnu/pmix2 /usr/share/openmpi /etc/openmpi; do
+  if [ -e "$d" ] && [ ! -e "$d.machine" ] && [ -z "${SMOKE:-}" ]; then mv "$d" "$d.machine"; fi
+done
+tar -C / -xf "$work/bundle/system/openmpi.tar" || exit 1
+bin=$work/bundle/bin
+export PATH=$bin:$PATH
+libs=$work/bundle/lib
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl=self,vader OMPI_MCA_pml=ob1
+
+say "machine: $(nproc) cores, $(awk '/MemTotal/{print int($2/1048576)}' /proc/meminfo) GiB,$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2)"
+left() { echo $((deadline - (SECONDS - start))); }
+
+# One run: NAME, PROCESSES (0: the serial program), THREADS, TIME LIMIT, CASE, extra arguments.
+# Each process writes /usr/bin/time -v to $work/NAME/time.RANK; the summary line gives the wall time of the
+# slowest process, CPU (user + system) and peak resident memory of the largest process and of all, the
+# Newton updates and end_uz at the last step.
+measure() {
+  local name=$1 procs=$2 threads=$3 limit=$4 case=$5; shift 5
+  local dir=$work/$name; mkdir -p "$dir"
+  [ "$limit" -gt "$(left)" ] && limit=$(left)
+  if [ "$limit" -lt 10 ]; then say "$name: skipped (time is up)"; return; fi
+  local cmd=(run "$case" -o "$dir/out" --threads "$threads" --quiet --newton-log "$@")
+  sample > "$dir/memory" & local sampler=$!
+  local t0=$SECONDS
+  if [ "$procs" = 0 ]; then
+    timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" time -v -o "$dir/time.0" fibrane "${cmd[@]}" > "$dir/stdout" 2> >(stamp > "$dir/stderr")
+  else
+    timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" mpirun -n "$procs" --bind-to "$([ "$threads" = 1 ] && echo core || echo none)" \
+      bash -c 'exec time -v -o "$0/time.$OMPI_COMM_WORLD_RANK" fibrane-mpi "$@"' "$dir" "${cmd[@]}" \
+      > "$dir/stdout" 2> >(stamp > "$dir/stderr")
+  fi
+  local rc=$? seconds=$((SECONDS - t0))
+  sleep 1; kill $sampler 2>/dev/null
+  local cpu rss used
+  cpu=$(awk -F': ' '/User time|System time/{c[FILENAME]+=$2} END{for(f in c)if(c[f]>m)m=c[f]; printf "%.1f", m}' "$dir"/time.* 2>/dev/null)
+  rss=$(awk -F': ' '/Maximum resident/{if($2>m)m=$2; s+=$2} END{printf "%.2f / %.2f", m/1048576, s/1048576}' "$dir"/time.* 2>/dev/null)
+  used=$(sort -n "$dir/memory" | tail -n 1)
+  say "$name: exit $rc after ${seconds} s; CPU ${cpu} s (largest process); peak ${rss} GiB (largest process / sum); machine's memory in use at most ${used} MiB; $(grep -c '|r|=' "$dir/stderr") Newton residuals"
+  grep -h -E '"(end_uz|start_uz|newton_iterations|wall_seconds|linear_solver|linear_solver_statistics|interface_unknowns|imbalance)"' \
+    "$dir/out/summary.json" 2>/dev/null | tr -s ' ' | tee -a "$log"
+  cp "$dir/out/summary.json" "$dir/summary.json" 2>/dev/null
+}
+# The machine's memory in use (MiB; total less available), every 2 s.
+sample() { while :; do awk '/MemTotal/{t=$2} /MemAvailable/{a=$2} END{print int((t-a)/1024)}' /proc/meminfo; sleep 2; done; }
+stamp() { while IFS= read -r line; do echo "$EPOCHREALTIME $line"; done; }
+pack() { tar -C "$work" --exclude='*/out' -czf "$OUT/runs.tar.gz" $(cd "$work" && ls -d */ | grep -v bundle) 2>/dev/null; }
+
+if [ -n "${SMOKE:-}" ]; then
+  full=$work/full.yaml big=$work/full.yaml procs="1 2" big_procs=2 q3_procs=2
+  sed -e 's/  t_end: 1.0/  t_end: 0.01/' examples/bending-full.yaml > "$full"
+  sed -e 's/elements: \[100, 100\]/elements: [10, 10]/' -e 's/elements: 400/elements: 40/' \
+      -e 's/t_end: 1.0/t_end: 0.035/' examples/bending.yaml > "$work/q3.yaml"
+else
+  full=bench/cases/bending-full-278k.yaml big=bench/cases/bending-full-1m.yaml procs="1 2 4 8 16" big_procs=8 q3_procs=16
+  sed -e 's/t_end: 1.0/t_end: 0.035/' examples/bending.yaml > "$work/q3.yaml"
+fi
+
+parts=${PARTS:-1 2 3}
+part() { [[ " $parts " == *" $1 "* ]]; }
+
+if part 1; then
+  say "== 1. full membrane (278 k), one step, P processes of one thread"
+  for p in $procs; do
+    measure "full-p$p" "$p" 1 "$([ "$p" = 1 ] && echo 150 || echo 100)" "$full" --max-steps 1 --mpi-solver mumps
+  done
+  pack
+fi
+
+if part 2; then
+  say "== 2. quarter at the paper mesh, three steps"
+  measure q3-t16 0 16 100 "$work/q3.yaml"
+  measure "q3-p$q3_procs" "$q3_procs" 1 100 "$work/q3.yaml" --mpi-solver mumps
+  measure q3-t2 0 2 130 "$work/q3.yaml"
+  pack
+fi
+
+if part 3; then
+  say "== 3. full membrane at the paper's resolution (1.1 M), one step, $big_procs processes of 2 threads"
+  measure "big-p$big_procs" "$big_procs" 2 "$(($(left) - 5))" "$big" --max-steps 1 --mpi-solver mumps
+  cp "$work/big-p$big_procs/stderr" "$OUT/big-newton.txt" 2>/dev/null
+  pack
+fi
+
+if part 4; then
+  say "== 4. the quarter's three steps at 4 threads; the 278 k step on $q3_procs processes with MUMPS's block low-rank factor (CNTL(7) = 1e-8) preconditioning GMRES"
+  measure q3-t4 0 4 90 "$work/q3.yaml"
+  PETSC_OPTIONS="-mat_mumps_icntl_35 1 -mat_mumps_cntl_7 1e-8" \
+    measure "full-p$q3_procs-blr" "$q3_procs" 1 "$(($(left) - 5))" "$full" --max-steps 1 --mpi-solver gmres
+  pack
+fi
+say "done after $((SECONDS - start)) s"
