@@ -6,9 +6,13 @@
 #   2. the quarter at the paper mesh (examples/bending.yaml), three steps: serial with 16 and 2 threads,
 #      and on 16 processes of one thread;
 #   3. the full membrane at the paper's resolution (bench/cases/bending-full-1m.yaml, 1.1 M unknowns), one
-#      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped.
-# Each part runs under a share of DEADLINE seconds (default 560) counted from the start, so that what was
-# measured comes back when the machine's time runs out. SMOKE=1 runs the same parts on coarse meshes.
+#      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped;
+#   4. (only when PARTS names it) the quarter's three steps at 4 threads, and the 278 k step on 16
+#      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES.
+# PARTS (default "1 2 3") picks the parts. Every run stops at DEADLINE seconds (default 560) from the start,
+# so that what was measured comes back when the machine's time runs out; each run's summary line is printed
+# as it ends, and the runs' logs are packed into $OUT/runs.tar.gz after each part. SMOKE=1 runs the same
+# parts on coarse meshes and leaves the machine's own Open MPI files in place.
 #
 #   OUT=results/remote bash bench/remote/scale.sh [BUNDLE = devbundle/bundle.tar.xz]
 set -u
@@ -41,9 +45,9 @@ say "machine: $(nproc) cores, $(awk '/MemTotal/{print int($2/1048576)}' /proc/me
 left() { echo $((deadline - (SECONDS - start))); }
 
 # One run: NAME, PROCESSES (0: the serial program), THREADS, TIME LIMIT, CASE, extra arguments.
-# Each process writes /usr/bin/time -v to $work/NAME/time.RANK; the summary line gives the wall time of the
-# slowest process, CPU (user + system) and peak resident memory of the largest process and of all, the
-# Newton updates and end_uz at the last step.
+# Each process writes /usr/bin/time -v to $work/NAME/time.RANK; the summary line gives the run's seconds,
+# the CPU time (user + system) and peak resident memory of the largest process and the sum over those that
+# wrote theirs, the machine's memory in use at its highest, the Newton residuals, and summary.json's figures.
 measure() {
   local name=$1 procs=$2 threads=$3 limit=$4 case=$5; shift 5
   local dir=$work/$name; mkdir -p "$dir"
