@@ -44,7 +44,8 @@ void register_run_command(CLI::App& app) {
   if (mpi_available())
     cmd->add_option("--mpi-solver", opt->mpi_solver,
                     "Distributed linear solver (also on one process): mumps (a MUMPS factorisation of every tangent, "
-                    "the default under mpirun) or gmres (GMRES preconditioned by an earlier tangent's factorisation)")
+                    "the default under mpirun unless the case's steps ask for krylov or low_rank) or gmres (GMRES "
+                    "preconditioned by an earlier tangent's factorisation)")
         ->check(CLI::IsMember({"mumps", "gmres"}));
   if (mpi_available())
     cmd->add_option("--partition", opt->partition,

@@ -21,14 +21,23 @@ bool mpi_available() { return true; }
 
 namespace {
 
-// Reads the case on every process. The processes agree on the outcome before any goes on, so that a
-// process that failed alone cannot leave the others waiting in the run's first collective.
-casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDistribution& d, bool distributed) {
+// Reads the case on every process and, for a distributed run, the solver its steps and --mpi-solver ask
+// for. The processes agree on the outcome before any goes on, so that a process that failed alone cannot
+// leave the others waiting in the run's first collective.
+casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDistribution& d, bool distributed,
+                               parallel::PetscSolverOptions& solver) {
   std::optional<casefile::Case> c;
   std::string error;
   int code = 0;
   try {
     c = casefile::read_case(o.case_file, distributed ? &d : nullptr);
+    if (distributed) {
+      try {
+        solver = parallel::petsc_solver_options(c->run.linear_solver, o.mpi_solver, c->model->symmetric());
+      } catch (const InputError& e) {
+        throw InputError(o.case_file + ": " + e.what());
+      }
+    }
   } catch (const InputError& e) {
     error = std::string("fibrane: error: ") + e.what();
     code = 2;
@@ -52,7 +61,8 @@ void run_mpi(const RunCommandOptions& o) {
   using solve::Partitioning;
   distribution.set_partitioning(o.partition == "contiguous" ? Partitioning::contiguous : Partitioning::graph);
   const bool distributed = session.size() > 1 || !o.mpi_solver.empty();
-  casefile::Case c = read_everywhere(o, distribution, distributed);
+  parallel::PetscSolverOptions solver;
+  casefile::Case c = read_everywhere(o, distribution, distributed, solver);
   const std::string& note = c.model->partition().note;
   if (distributed && session.rank() == 0 && !note.empty()) std::cerr << "fibrane: warning: " << note << "\n";
   apply_max_steps(c, o);
@@ -61,8 +71,6 @@ void run_mpi(const RunCommandOptions& o) {
     options.output_directory = o.restart_directory;
     options.restart = true;
   }
-  parallel::PetscSolverOptions solver;
-  if (o.mpi_solver == "gmres") solver.method = parallel::PetscSolverOptions::Method::gmres;
   if (distributed) {
     options.newton_log = options.newton_log && session.rank() == 0;  // one log, not one per process
     options.make_solver = [&](bool symmetric) {

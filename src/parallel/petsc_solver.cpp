@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "common/error.hpp"
 #include "parallel/row_pattern.hpp"
 #include "linalg/symmetry_probe.hpp"
 
@@ -71,6 +72,7 @@ class PetscSolver final : public solve::LinearSolver {
 
   void analyze(const SpMat& a) override;
   bool factorize(const SpMat& a) override;
+  bool factorize_exactly(const SpMat& a) override;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
   std::string name() const override;
   long factor_nonzeros() const override;
@@ -78,6 +80,9 @@ class PetscSolver final : public solve::LinearSolver {
   int negative_eigenvalues() const override { return negative_; }
 
  private:
+  void set_matrix(const SpMat& a);     // analyze() for a new size or symmetry, then set_values()
+  void reset_solver();                 // a new KSP and MUMPS instance (the next factorisation analyses afresh)
+  void drop_low_rank();                // full-rank factorisations from now on
   void release();                      // destroys the matrix, the KSP and the vectors
   void create_matrix(const SpMat& b);  // exact preallocation from the summands' patterns (solver rows)
   void create_solver();                // KSP, MUMPS settings, vectors
@@ -98,6 +103,7 @@ class PetscSolver final : public solve::LinearSolver {
   bool cholesky_ = true;      // SBAIJ + LDL^T; otherwise AIJ + LU
   bool factored_ = false;     // the KSP holds a factorisation (possibly of an earlier tangent)
   bool fresh_ = false;        // ... of the matrix's current values
+  mutable bool stale_ = false;  // a solve needed more than max_iterations: factorise the next tangent
   int negative_ = -1, analyses_ = 0, workspace_percent_ = 0;
   mutable int factorizations_ = 0, solves_ = 0, krylov_iterations_ = 0;
   mutable double set_seconds_ = 0, factor_seconds_ = 0, solve_seconds_ = 0;
@@ -120,8 +126,8 @@ void PetscSolver::analyze(const SpMat& a) {
   // iteration); a new pattern's factor is larger and rarely fits the old one's place, so the freed
   // matrix and factor are handed back here, before the new ones are made, instead of adding to the peak.
   malloc_trim(0);
-  cholesky_ = symmetric_model_;
-  if (!symmetric_model_) {
+  cholesky_ = symmetric_model_ && !options_.lu;
+  if (!symmetric_model_ && !options_.lu) {
     probe_.build(a);
     cholesky_ = d_.all(probe_.symmetric(a));
   }
@@ -162,11 +168,15 @@ void PetscSolver::create_matrix(const SpMat& a) {
 void PetscSolver::create_solver() {
   FIBRANE_PETSC(KSPCreate(d_.comm(), &ksp_));
   FIBRANE_PETSC(KSPSetOperators(ksp_, a_, a_));
+  if (options_.low_rank > 0 && options_.method != PetscSolverOptions::Method::gmres)
+    throw std::logic_error("PETSc solver: block low-rank factorisations need GMRES to refine them");
   if (options_.method == PetscSolverOptions::Method::gmres) {
+    const PetscInt limit = 3 * options_.max_iterations;
     FIBRANE_PETSC(KSPSetType(ksp_, KSPGMRES));
+    FIBRANE_PETSC(KSPGMRESSetRestart(ksp_, limit));
     FIBRANE_PETSC(KSPSetPCSide(ksp_, PC_RIGHT));
     FIBRANE_PETSC(KSPSetNormType(ksp_, KSP_NORM_UNPRECONDITIONED));
-    FIBRANE_PETSC(KSPSetTolerances(ksp_, options_.relative_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, options_.max_iterations));
+    FIBRANE_PETSC(KSPSetTolerances(ksp_, options_.relative_tolerance, PETSC_DEFAULT, PETSC_DEFAULT, limit));
   } else {
     FIBRANE_PETSC(KSPSetType(ksp_, KSPPREONLY));
   }
@@ -179,6 +189,10 @@ void PetscSolver::create_solver() {
   // The negative-eigenvalue count of a parallel LDL^T needs the root front outside ScaLAPACK.
   if (cholesky_ && d_.size() > 1) FIBRANE_PETSC(MatMumpsSetIcntl(f, 13, 1));
   if (workspace_percent_ > 0) FIBRANE_PETSC(MatMumpsSetIcntl(f, 14, workspace_percent_));
+  if (options_.low_rank > 0) {
+    FIBRANE_PETSC(MatMumpsSetIcntl(f, 35, 2));  // block low-rank factors, used in the solves too
+    FIBRANE_PETSC(MatMumpsSetCntl(f, 7, options_.low_rank));
+  }
   FIBRANE_PETSC(KSPSetFromOptions(ksp_));
   FIBRANE_PETSC(MatCreateVecs(a_, &x_, &b_));
   FIBRANE_PETSC(VecScatterCreateToAll(x_, &to_all_, &x_all_));
@@ -257,34 +271,32 @@ bool PetscSolver::factor() {
     if (ok) {
       ++factorizations_;
       factored_ = fresh_ = true;
+      stale_ = false;
       PetscInt negative = -1;
       if (cholesky_) FIBRANE_PETSC(MatGetInertia(factor_matrix(), &negative, nullptr, nullptr));
       negative_ = static_cast<int>(negative);
       return true;
     }
-    KSPDestroy(&ksp_);
-    VecDestroy(&b_);
-    VecDestroy(&x_);
-    VecDestroy(&x_all_);
-    VecScatterDestroy(&to_all_);
     const bool workspace = status == -8 || status == -9;
     if (workspace) workspace_percent_ = std::max(workspace_percent_, 20) * 2;
-    create_solver();
-    factored_ = fresh_ = false;
-    negative_ = -1;
+    reset_solver();
     if (!workspace || attempt == 3) return false;
   }
 }
 
-bool PetscSolver::factorize(const SpMat& a) {
+void PetscSolver::set_matrix(const SpMat& a) {
   PetscInt rows = -1;
   if (a_) FIBRANE_PETSC(MatGetSize(a_, &rows, nullptr));
   if (rows != static_cast<PetscInt>(a.rows())) analyze(a);  // analyze() is the caller's duty; a new size is caught
-  else if (!symmetric_model_ && d_.all(probe_.symmetric(a)) != cholesky_) analyze(a);  // the symmetry changed
+  else if (!symmetric_model_ && !options_.lu && d_.all(probe_.symmetric(a)) != cholesky_) analyze(a);  // the symmetry changed
   SpMat storage;
   set_values(in_solver_rows(a, own_, storage));
+}
+
+bool PetscSolver::factorize(const SpMat& a) {
+  set_matrix(a);
   // GMRES keeps an earlier factorisation as its preconditioner; solve() refactorises when it does not do.
-  if (options_.method == PetscSolverOptions::Method::gmres && factored_) {
+  if (options_.method == PetscSolverOptions::Method::gmres && factored_ && !stale_) {
     PC pc;
     FIBRANE_PETSC(KSPGetPC(ksp_, &pc));
     FIBRANE_PETSC(PCSetReusePreconditioner(pc, PETSC_TRUE));
@@ -292,6 +304,29 @@ bool PetscSolver::factorize(const SpMat& a) {
     negative_ = -1;  // the factorisation belongs to an earlier tangent
     return true;
   }
+  return factor();
+}
+
+void PetscSolver::reset_solver() {
+  KSPDestroy(&ksp_);
+  VecDestroy(&b_);
+  VecDestroy(&x_);
+  VecDestroy(&x_all_);
+  VecScatterDestroy(&to_all_);
+  create_solver();
+  ++analyses_;  // the new MUMPS instance analyses at its first factorisation
+  factored_ = fresh_ = false;
+  negative_ = -1;
+}
+
+void PetscSolver::drop_low_rank() {
+  options_.low_rank = 0;
+  reset_solver();
+}
+
+// For callers that need this matrix's inertia (arc-length's sign rule): always a factorisation of it.
+bool PetscSolver::factorize_exactly(const SpMat& a) {
+  set_matrix(a);
   return factor();
 }
 
@@ -311,10 +346,13 @@ Eigen::VectorXd PetscSolver::solve(const Eigen::VectorXd& b) const {
   PetscInt iterations = 0;
   FIBRANE_PETSC(KSPGetIterationNumber(ksp_, &iterations));
   krylov_iterations_ += static_cast<int>(iterations);
-  if (reason < 0 && !fresh_) {
-    // GMRES with an earlier tangent's factorisation did not converge: factorise this tangent.
+  if (iterations > options_.max_iterations) stale_ = true;
+  if (reason < 0 && (!fresh_ || options_.low_rank > 0)) {
+    // GMRES with an earlier tangent's factorisation did not converge: factorise this tangent. With a
+    // fresh block low-rank factorisation that GMRES could not refine, factorise it in full from now on.
     solve_seconds_ += seconds_since(start);
     auto* self = const_cast<PetscSolver*>(this);
+    if (fresh_) self->drop_low_rank();
     if (!self->factor()) return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::quiet_NaN());
     return solve(b);
   }
@@ -335,7 +373,7 @@ Eigen::VectorXd PetscSolver::solve(const Eigen::VectorXd& b) const {
 }
 
 std::string PetscSolver::name() const {
-  const std::string mumps = std::string("mumps-") + (cholesky_ ? "ldlt" : "lu");
+  const std::string mumps = std::string("mumps-") + (cholesky_ ? "ldlt" : "lu") + (options_.low_rank > 0 ? "-blr" : "");
   const std::string kind = options_.method == PetscSolverOptions::Method::gmres ? "gmres(" + mumps + ")" : mumps;
   return "petsc-" + kind + (d_.size() > 1 ? fmt::format(" on {} processes", d_.size()) : "");
 }
@@ -361,6 +399,35 @@ std::string PetscSolver::analysis_summary() const {
 }
 
 }  // namespace
+
+PetscSolverOptions petsc_solver_options(const solve::LinearSolverSettings& settings, const std::string& mpi_solver,
+                                        bool symmetric_model) {
+  const std::string& kind = settings.kind;
+  if (kind != "auto" && kind != "mumps" && kind != "mumps-lu")
+    throw InputError("steps.solver: '" + kind + "' is a serial solver; a distributed run factorises with MUMPS "
+                     "through PETSc: use auto (LDL^T while the tangent is symmetric, LU otherwise), mumps or mumps-lu");
+  if (kind == "mumps" && !symmetric_model)
+    throw InputError("steps.solver: 'mumps' (LDL^T) needs a symmetric tangent, which this model cannot promise; "
+                     "use auto or mumps-lu");
+  if (settings.precision != "double")
+    throw InputError("steps.precision: '" + settings.precision + "' is not available in a distributed run: "
+                     "PETSc's scalars are double precision, and its MUMPS factorises in them");
+  const bool krylov = settings.krylov || settings.low_rank > 0;
+  if (mpi_solver == "mumps" && krylov)
+    throw InputError(std::string("--mpi-solver mumps asks for direct solves, but the case's steps.") +
+                     (settings.low_rank > 0 ? "low_rank" : "krylov") + " asks for Krylov solves: drop one");
+  PetscSolverOptions o;
+  o.lu = kind == "mumps-lu";
+  if (krylov) {
+    o.method = PetscSolverOptions::Method::gmres;
+    o.relative_tolerance = settings.krylov_tolerance;
+    o.max_iterations = settings.krylov_max_iterations;
+    o.low_rank = settings.low_rank;
+  } else if (mpi_solver == "gmres") {
+    o.method = PetscSolverOptions::Method::gmres;
+  }
+  return o;
+}
 
 std::unique_ptr<solve::LinearSolver> make_petsc_solver(const PetscSolverOptions& options, bool symmetric,
                                                        const MpiDistribution& distribution,

@@ -15,8 +15,8 @@
 // analyze() preallocates the matrix exactly from the summands' patterns (row_pattern.hpp); while the
 // pattern is unchanged (LinearSolver::analyze_if_needed with the system's pattern_version) factorize()
 // only re-assembles the values and MUMPS refactorises, reusing its analysis. Every call is collective.
-// PETSc options (PETSC_OPTIONS) reach the KSP and MUMPS: -mat_mumps_icntl_35 2 -mat_mumps_cntl_7 1e-8
-// for block low-rank factors, -mat_mumps_icntl_28 2 -mat_mumps_icntl_29 1 for a parallel ordering.
+// PETSc options (PETSC_OPTIONS) reach the KSP and MUMPS after fibrane's settings, e.g. -mat_mumps_icntl_28 2
+// -mat_mumps_icntl_29 1 for a parallel ordering where MUMPS was built with one.
 #include <memory>
 
 #include "parallel/mpi_distribution.hpp"
@@ -27,13 +27,28 @@ namespace fibrane::parallel {
 struct PetscSolverOptions {
   // direct: a MUMPS factorisation of every tangent (KSPPREONLY). gmres: GMRES on the tangent
   // (right-preconditioned, so the tolerance is on |K x - b| / |b|) with the MUMPS factorisation of an
-  // earlier tangent as preconditioner; a tangent is factorised afresh when GMRES does not reach the
-  // tolerance within max_iterations.
+  // earlier tangent as preconditioner, as the serial KrylovReuseSolver does: a solve that needs more than
+  // max_iterations marks the factorisation stale (the next tangent is factorised), and one that does not
+  // converge within 3 x max_iterations factorises the current tangent at once.
   enum class Method { direct, gmres };
   Method method = Method::direct;
-  int max_iterations = 30;
+  int max_iterations = 20;
   double relative_tolerance = 1e-10;
+  // > 0: MUMPS's block low-rank factorisations (ICNTL(35) = 2) with this dropping tolerance (CNTL(7));
+  // needs method gmres, which refines them.
+  double low_rank = 0;
+  bool lu = false;  // LU also for symmetric tangents (steps.solver: mumps-lu)
 };
+
+// The distributed solver that a case's steps.solver, steps.precision, steps.low_rank and steps.krylov
+// (settings) and the command line's --mpi-solver ("" or "mumps": direct unless the case asks for Krylov
+// solves; "gmres") ask for: `krylov` and `low_rank` take GMRES with the case's tolerance and iteration
+// limit. InputError for what the distributed path cannot do: a serial solver named in steps.solver,
+// `mumps` (LDL^T) for a model that cannot promise symmetric tangents (`symmetric_model`, as the serial
+// path refuses it), precision: single (PETSc's scalars are double), or --mpi-solver mumps against the
+// case's Krylov solves.
+PetscSolverOptions petsc_solver_options(const solve::LinearSolverSettings& settings, const std::string& mpi_solver,
+                                        bool symmetric_model);
 
 // `symmetric`: the model promises symmetric tangents (model::Model::symmetric()). `distribution` and
 // `ownership` (the model's partition().unknowns) must outlive the solver, and PETSc must be initialised

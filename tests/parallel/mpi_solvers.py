@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""The case's solver keys in distributed runs (ctest `mpi_solvers`, FIBRANE_PETSC builds only).
+
+For the peeling example (arc-length through pull-off: its sign rule factorises every converged state
+exactly) and the bending example at the coarse meshes of mpi_common.py:
+  fibrane run CASE --threads 1                       (serial, direct, full Newton: the reference)
+  mpiexec -n 2 fibrane run CASE+krylov               (steps.krylov: true -> GMRES with an earlier
+                                                      tangent's MUMPS factorisation)
+  mpiexec -n 2 fibrane run CASE+low_rank             (steps.low_rank: 1e-10 -> MUMPS's block low-rank
+                                                      factorisations, refined by GMRES)
+(modified Newton's `reuse_factorization` removed from all three, as Krylov solves exclude it) and checks
+that each distributed history equals the serial one to 1e-6 of each column's largest magnitude with the
+same steps, Newton iterations and limit-point flags (the solves are refined to 1e-8 relative, so the
+Newton iterates agree to about that, well inside Newton's tolerance; `negative_eigenvalues` is -1 where a
+step's last factorisation was an earlier tangent's, and is not compared), that summary.json names the
+GMRES path (with `-blr` for low_rank), and that GMRES reused factorisations (fewer factorisations than
+Newton iterations) where the case asks for Krylov solves. Then that a distributed run exits with 2, names the key, and writes
+nothing for what that path cannot do: `precision: single`, a serial solver (`solver: cholmod`), and
+`--mpi-solver mumps` against `krylov: true`.
+Exit 0 when all hold, 1 with the failures listed otherwise.
+"""
+import re
+import subprocess
+import sys
+
+from mpi_common import CASES, case_text, compare, driver_arguments, mpi_environment, read_history, run, summary
+
+TOLERANCE = 1e-6
+VARIANTS = {"krylov": "  krylov: true\n", "low_rank": "  low_rank: 1.0e-10\n"}
+
+
+def with_steps(text, lines):
+    """The case text with `lines` added to its steps and modified Newton's reuse removed (it excludes both)."""
+    text = re.sub(r"\n  reuse_factorization: [^\n]*", "", text)
+    return text.replace("\nsteps:\n", "\nsteps:\n" + lines, 1)
+
+
+def factorisations(s):
+    m = re.search(r"(\d+) factorisations", s.get("linear_solver_statistics", ""))
+    return int(m.group(1)) if m else -1
+
+
+def refused(fibrane, a, work, label, text, arguments, key):
+    """A 2-process run of `text` with `arguments`: exit 2, `key` in the message, no output directory."""
+    case = work / f"{label}.yaml"
+    case.write_text(text)
+    directory = work / label
+    result = subprocess.run([a.mpiexec, "-n", "2", fibrane, "run", case, "-o", directory] + arguments,
+                            env=mpi_environment(), capture_output=True, text=True)
+    message = (result.stderr + result.stdout).strip()
+    print(f"{label}: exit {result.returncode}: {message.splitlines()[0] if message else ''}")
+    problems = []
+    if result.returncode != 2 or key not in message:
+        problems.append(f"{label}: exit {result.returncode}, message {message!r} (expected 2, naming {key})")
+    if directory.exists():
+        problems.append(f"{label}: the output directory was created")
+    return problems
+
+
+def main():
+    a, fibrane, work = driver_arguments(__doc__.splitlines()[0])
+    problems = []
+    for name in sorted(CASES):
+        text = case_text(a.examples.resolve(), name)
+        case = work / f"{name}.yaml"
+        case.write_text(with_steps(text, ""))
+        serial_dir = work / f"{name}-serial"
+        run([fibrane, "run", case, "-q", "--threads", "1", "-o", serial_dir], work, work / f"{name}-serial.log")
+        serial = read_history(serial_dir / "history.csv")
+        for variant, lines in VARIANTS.items():
+            label = f"{name}-{variant}"
+            variant_case = work / f"{label}.yaml"
+            variant_case.write_text(with_steps(text, lines))
+            directory = work / label
+            run([a.mpiexec, "-n", "2", fibrane, "run", variant_case, "-q", "-o", directory], work, work / f"{label}.log")
+            problems += compare(serial, read_history(directory / "history.csv"), label, TOLERANCE,
+                                skipped=("negative_eigenvalues",))
+            s = summary(directory)
+            print(f"{label}: {s['linear_solver']}; {s['newton_iterations']} Newton iterations; "
+                  f"{s.get('linear_solver_statistics', '')}")
+            solver = s["linear_solver"]
+            if "petsc-gmres(mumps-" not in solver or ("-blr)" in solver) != (variant == "low_rank"):
+                problems.append(f"{label}: linear_solver {solver!r} is not the GMRES path of {variant}")
+            if variant == "krylov" and not 0 < factorisations(s) < s["newton_iterations"]:
+                problems.append(f"{label}: {factorisations(s)} factorisations for {s['newton_iterations']} Newton "
+                                "iterations: no factorisation was reused")
+    text = case_text(a.examples.resolve(), "bending")
+    problems += refused(fibrane, a, work, "single", with_steps(text, "  precision: single\n"), [], "steps.precision")
+    problems += refused(fibrane, a, work, "cholmod", text.replace("  solver: auto\n", "  solver: cholmod\n", 1), [],
+                        "steps.solver")
+    problems += refused(fibrane, a, work, "mumps-and-krylov", with_steps(text, VARIANTS["krylov"]),
+                        ["--mpi-solver", "mumps"], "--mpi-solver")
+    for p in problems:
+        print(f"FAIL {p}")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
