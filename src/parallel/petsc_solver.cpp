@@ -212,10 +212,10 @@ int PetscSolver::infog(int i) const {
   return static_cast<int>(value);
 }
 
-// Column j of the summand: rows i >= j, as row j of the upper triangle (SBAIJ), or the whole column (AIJ).
-// Entries of other processes' rows wait in PETSc's stash until an assembly sends them; sending them in
-// kStashRounds rounds of columns (every process the same rounds: the flush is collective) bounds the stash
-// to a fraction of the summand's entries in other rows.
+// The summand's rows go to PETSc whole: row j of the upper triangle is column j's rows i >= j (SBAIJ);
+// for AIJ the rows come from RowRounds. Entries of other processes' rows wait in PETSc's stash until an
+// assembly sends them; sending them in kStashRounds rounds of rows (every process the same rounds: the
+// flush is collective) bounds the stash to a fraction of the summand's entries in other rows.
 void PetscSolver::set_values(const SpMat& a) {
   constexpr int kStashRounds = 8;
   const auto start = Clock::now();
@@ -223,25 +223,29 @@ void PetscSolver::set_values(const SpMat& a) {
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   const double* values = a.valuePtr();
-  const PetscInt columns = static_cast<PetscInt>(a.cols());
-  const PetscInt per_round = (columns + kStashRounds - 1) / kStashRounds;
-  for (PetscInt j = 0; j < columns; ++j) {
-    if (j > 0 && j % per_round == 0) {
+  const int n = static_cast<int>(a.cols());
+  const int per_round = (n + kStashRounds - 1) / kStashRounds;
+  RowRounds rounds(a);
+  for (int first = 0; first < n; first += per_round) {
+    if (first > 0) {
       FIBRANE_PETSC(MatAssemblyBegin(a_, MAT_FLUSH_ASSEMBLY));
       FIBRANE_PETSC(MatAssemblyEnd(a_, MAT_FLUSH_ASSEMBLY));
     }
-    const int* b = inner + outer[j];
-    const int* e = inner + outer[j + 1];
-    const double* v = values + outer[j];
+    const int end = std::min(n, first + per_round);
     if (cholesky_) {
-      const int* lower = std::lower_bound(b, e, static_cast<int>(j));
-      v += lower - b;
-      b = lower;
+      for (PetscInt j = first; j < end; ++j) {
+        const int* e = inner + outer[j + 1];
+        const int* b = std::lower_bound(inner + outer[j], e, static_cast<int>(j));
+        if (b != e) FIBRANE_PETSC(MatSetValues(a_, 1, &j, static_cast<PetscInt>(e - b), b, values + (b - inner), ADD_VALUES));
+      }
+      continue;
     }
-    if (b == e) continue;
-    const PetscInt count = static_cast<PetscInt>(e - b);
-    if (cholesky_) FIBRANE_PETSC(MatSetValues(a_, 1, &j, count, b, v, ADD_VALUES));
-    else FIBRANE_PETSC(MatSetValues(a_, count, b, 1, &j, v, ADD_VALUES));
+    const RowPattern& rows = rounds.next(end);
+    for (int r = 0; r < rows.rows(); ++r) {
+      const PetscInt row = first + r;
+      const int b = rows.begin[static_cast<size_t>(r)], count = rows.begin[static_cast<size_t>(r) + 1] - b;
+      if (count > 0) FIBRANE_PETSC(MatSetValues(a_, 1, &row, count, rows.columns.data() + b, rounds.values().data() + b, ADD_VALUES));
+    }
   }
   FIBRANE_PETSC(MatAssemblyBegin(a_, MAT_FINAL_ASSEMBLY));
   FIBRANE_PETSC(MatAssemblyEnd(a_, MAT_FINAL_ASSEMBLY));

@@ -65,4 +65,35 @@ RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, co
   return out;
 }
 
+RowRounds::RowRounds(const Eigen::SparseMatrix<double>& a)
+    : a_(a), cursor_(a.outerIndexPtr(), a.outerIndexPtr() + a.cols()) {
+  rows_.first = 0;
+}
+
+const RowPattern& RowRounds::next(int end) {
+  const int* outer = a_.outerIndexPtr();
+  const int* inner = a_.innerIndexPtr();
+  const double* values = a_.valuePtr();
+  const int first = rows_.first + rows_.rows();
+  const int columns = static_cast<int>(a_.cols());
+  rows_.first = first;
+  rows_.begin.assign(static_cast<size_t>(end - first) + 1, 0);
+  for (int j = 0; j < columns; ++j)
+    for (int k = cursor_[static_cast<size_t>(j)]; k < outer[j + 1] && inner[k] < end; ++k)
+      ++rows_.begin[static_cast<size_t>(inner[k] - first) + 1];
+  for (size_t r = 1; r < rows_.begin.size(); ++r) rows_.begin[r] += rows_.begin[r - 1];
+  rows_.columns.resize(static_cast<size_t>(rows_.begin.back()));
+  values_.resize(rows_.columns.size());
+  fill_.assign(rows_.begin.begin(), rows_.begin.end() - 1);
+  for (int j = 0; j < columns; ++j) {
+    int& k = cursor_[static_cast<size_t>(j)];
+    for (; k < outer[j + 1] && inner[k] < end; ++k) {
+      const auto at = static_cast<size_t>(fill_[static_cast<size_t>(inner[k] - first)]++);
+      rows_.columns[at] = j;
+      values_[at] = values[k];
+    }
+  }
+  return rows_;
+}
+
 }  // namespace fibrane::parallel

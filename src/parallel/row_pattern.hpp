@@ -25,4 +25,21 @@ struct RowPattern {
 RowPattern owned_rows(const Eigen::SparseMatrix<double>& summand, bool upper, const solve::UnknownOwnership& ownership,
                       const MpiDistribution& distribution);
 
+// The rows of a column-major matrix, round by round: next(end) gives the rows from the last round's end
+// up to `end` with their values, each row's columns sorted. Each column keeps a cursor to its first entry
+// not yet given, so all rounds together visit every entry once. (PETSc's AIJ matrices store rows: a row
+// handed over whole finds its columns in one sweep, where a column's entries would each search a row.)
+class RowRounds {
+ public:
+  explicit RowRounds(const Eigen::SparseMatrix<double>& a);
+  const RowPattern& next(int end);
+  const std::vector<double>& values() const { return values_; }
+
+ private:
+  const Eigen::SparseMatrix<double>& a_;
+  std::vector<int> cursor_, fill_;
+  RowPattern rows_;
+  std::vector<double> values_;
+};
+
 }  // namespace fibrane::parallel

@@ -8,13 +8,15 @@ exactly) and the bending example at the coarse meshes of mpi_common.py:
                                                       tangent's MUMPS factorisation)
   mpiexec -n 2 fibrane run CASE+low_rank             (steps.low_rank: 1e-10 -> MUMPS's block low-rank
                                                       factorisations, refined by GMRES)
+  mpiexec -n 2 fibrane run CASE+mumps-lu             (steps.solver: mumps-lu -> MUMPS's LU of the
+                                                      symmetric tangents, PETSc's AIJ matrix)
 (modified Newton's `reuse_factorization` removed from all three, as Krylov solves exclude it) and checks
 that each distributed history equals the serial one to 1e-6 of each column's largest magnitude with the
 same steps, Newton iterations and limit-point flags (the solves are refined to 1e-8 relative, so the
 Newton iterates agree to about that, well inside Newton's tolerance; `negative_eigenvalues` is -1 where a
 step's last factorisation was an earlier tangent's, and is not compared), that summary.json names the
-GMRES path (with `-blr` for low_rank), and that GMRES reused factorisations (fewer factorisations than
-Newton iterations) where the case asks for Krylov solves. Then that a distributed run exits with 2, names the key, and writes
+GMRES path (with `-blr` for low_rank) or the LU, and that GMRES reused factorisations (fewer
+factorisations than Newton iterations) where the case asks for Krylov solves. Then that a distributed run exits with 2, names the key, and writes
 nothing for what that path cannot do: `precision: single`, a serial solver (`solver: cholmod`), and
 `--mpi-solver mumps` against `krylov: true`.
 Exit 0 when all hold, 1 with the failures listed otherwise.
@@ -26,7 +28,8 @@ import sys
 from mpi_common import CASES, case_text, compare, driver_arguments, mpi_environment, read_history, run, summary
 
 TOLERANCE = 1e-6
-VARIANTS = {"krylov": "  krylov: true\n", "low_rank": "  low_rank: 1.0e-10\n"}
+VARIANTS = {"krylov": "  krylov: true\n", "low_rank": "  low_rank: 1.0e-10\n", "mumps-lu": ""}
+SOLVER_NAMES = {"krylov": "petsc-gmres(mumps-ldlt)", "low_rank": "petsc-gmres(mumps-ldlt-blr)", "mumps-lu": "petsc-mumps-lu"}
 
 
 def with_steps(text, lines):
@@ -70,7 +73,10 @@ def main():
         for variant, lines in VARIANTS.items():
             label = f"{name}-{variant}"
             variant_case = work / f"{label}.yaml"
-            variant_case.write_text(with_steps(text, lines))
+            variant_text = with_steps(text, lines)
+            if variant == "mumps-lu":
+                variant_text = variant_text.replace("  solver: auto\n", "  solver: mumps-lu\n", 1)
+            variant_case.write_text(variant_text)
             directory = work / label
             run([a.mpiexec, "-n", "2", fibrane, "run", variant_case, "-q", "-o", directory], work, work / f"{label}.log")
             problems += compare(serial, read_history(directory / "history.csv"), label, TOLERANCE,
@@ -78,9 +84,8 @@ def main():
             s = summary(directory)
             print(f"{label}: {s['linear_solver']}; {s['newton_iterations']} Newton iterations; "
                   f"{s.get('linear_solver_statistics', '')}")
-            solver = s["linear_solver"]
-            if "petsc-gmres(mumps-" not in solver or ("-blr)" in solver) != (variant == "low_rank"):
-                problems.append(f"{label}: linear_solver {solver!r} is not the GMRES path of {variant}")
+            if not s["linear_solver"].startswith(SOLVER_NAMES[variant] + " "):
+                problems.append(f"{label}: linear_solver {s['linear_solver']!r}, not {SOLVER_NAMES[variant]}")
             if variant == "krylov" and not 0 < factorisations(s) < s["newton_iterations"]:
                 problems.append(f"{label}: {factorisations(s)} factorisations for {s['newton_iterations']} Newton "
                                 "iterations: no factorisation was reused")
