@@ -38,29 +38,14 @@ int main(int argc, char** argv) {
   const char* usage =
       "usage: bench_assembly_threads CASE.yaml [--rounds R] [--threads N] [--replace FROM TO]...\n"
       "  alternates the coloured assembly and the per-thread buffers, R rounds (default 5)\n";
-  if (help_requested(argc, argv, usage)) return 0;
-  if (argc < 2) {
-    std::cerr << usage;
-    return 2;
-  }
-  std::string path = argv[1];
-  int rounds = 5;
-  std::vector<std::pair<std::string, std::string>> edits;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--rounds" && i + 1 < argc) rounds = std::stoi(argv[++i]);
-    else if (!common_option(argc, argv, i, edits)) {
-      std::cerr << "unknown argument " << a << "\n";
-      return 2;
-    }
-  }
-  try {
-    path = edited_case(path, edits);
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  }
-  auto c = fibrane::casefile::read_case(path);
+  int rounds = 5, code = 0;
+  const auto path = case_arguments(argc, argv, usage, [&](const std::string& a, int& i) {
+    if (a != "--rounds" || i + 1 >= argc) return false;
+    rounds = std::stoi(argv[++i]);
+    return true;
+  }, code);
+  if (!path) return code;
+  auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> uniform(-1e-3, 1e-3);

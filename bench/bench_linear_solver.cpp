@@ -149,34 +149,20 @@ int main(int argc, char** argv) {
   const char* usage =
       "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
       "[--rounds R]\n  analysis, factorisation and solve of the case's first tangent (shifted by -S mean(diag) I)\n";
-  if (help_requested(argc, argv, usage)) return 0;
-  if (argc < 2) {
-    std::cerr << usage;
-    return 2;
-  }
-  std::vector<std::pair<std::string, std::string>> edits;
   std::vector<std::string> kinds;
   double shift = 0;
-  int rounds = 1;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--solver" && i + 1 < argc) kinds.emplace_back(argv[++i]);
-    else if (a == "--shift" && i + 1 < argc) shift = std::stod(argv[++i]);
-    else if (a == "--rounds" && i + 1 < argc) rounds = std::max(1, std::stoi(argv[++i]));
-    else if (!common_option(argc, argv, i, edits)) {
-      std::cerr << "unknown argument " << argv[i] << "\n";
-      return 2;
-    }
-  }
+  int rounds = 1, code = 0;
+  const auto path = case_arguments(argc, argv, usage, [&](const std::string& a, int& i) {
+    if (i + 1 >= argc) return false;
+    if (a == "--solver") kinds.emplace_back(argv[++i]);
+    else if (a == "--shift") shift = std::stod(argv[++i]);
+    else if (a == "--rounds") rounds = std::max(1, std::stoi(argv[++i]));
+    else return false;
+    return true;
+  }, code);
+  if (!path) return code;
   if (kinds.empty()) kinds = {"auto", "symmetric-auto"};
-  std::string path;
-  try {
-    path = edited_case(argv[1], edits);
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  }
-  auto c = fibrane::casefile::read_case(path);
+  auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
   m.evaluate(m.initial_unknowns(), 0.0, true);
   Eigen::SparseMatrix<double> k = m.tangent();

@@ -106,36 +106,23 @@ int main(int argc, char** argv) {
       "  --t-end T: end the run at t = T (load stepping, arc-length)\n"
       "  --reuse R: steps.reuse_factorization for this run (default: the case's; 0 times plain Newton)\n"
       "  --assembly A: how threads share the assembly: colours (the default) or buffers (per-thread copies)\n";
-  if (help_requested(argc, argv, usage)) return 0;
-  if (argc < 2) {
-    std::cerr << usage;
-    return 2;
-  }
-  std::string path = argv[1];
   double t_end = -1, reuse = -1;
   std::string assembly = "colours";
-  std::vector<std::pair<std::string, std::string>> edits;
-  for (int i = 2; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--t-end" && i + 1 < argc) t_end = std::stod(argv[++i]);
-    else if (a == "--reuse" && i + 1 < argc) reuse = std::stod(argv[++i]);
-    else if (a == "--assembly" && i + 1 < argc) assembly = argv[++i];
-    else if (!common_option(argc, argv, i, edits)) {
-      std::cerr << "unknown argument " << a << "\n";
-      return 2;
-    }
-  }
+  int code = 0;
+  const auto path = case_arguments(argc, argv, usage, [&](const std::string& a, int& i) {
+    if (i + 1 >= argc) return false;
+    if (a == "--t-end") t_end = std::stod(argv[++i]);
+    else if (a == "--reuse") reuse = std::stod(argv[++i]);
+    else if (a == "--assembly") assembly = argv[++i];
+    else return false;
+    return true;
+  }, code);
+  if (!path) return code;
   if (assembly != "colours" && assembly != "buffers") {
     std::cerr << "--assembly: colours or buffers, not '" << assembly << "'\n";
     return 2;
   }
-  try {
-    path = edited_case(path, edits);
-  } catch (const std::exception& e) {
-    std::cerr << e.what() << "\n";
-    return 2;
-  }
-  auto c = fibrane::casefile::read_case(path);
+  auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
   if (t_end > 0) c.run.steps.t_end = c.run.arc_length.t_end = t_end;
   if (reuse >= 0) c.run.newton.reuse_below = reuse;

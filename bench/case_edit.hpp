@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <iostream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -53,4 +56,37 @@ inline bool common_option(int argc, char** argv, int& i, std::vector<std::pair<s
     return true;
   }
   return false;
+}
+
+// `PROGRAM CASE.yaml [options]`: the program's own options go to `own(argument, i)`, which consumes
+// argv[i] (and its values, advancing i) and returns true when the argument is one of them; --threads and
+// --replace are common_option's. Returns the (edited) case's path, or std::nullopt with `code` the exit
+// code: 0 after --help, 2 after the usage or an error on stderr (no case, an unknown argument, a
+// --replace whose FROM is not in the case).
+inline std::optional<std::string> case_arguments(int argc, char** argv, const char* usage,
+                                                 const std::function<bool(const std::string&, int&)>& own,
+                                                 int& code) {
+  code = 2;
+  if (help_requested(argc, argv, usage)) {
+    code = 0;
+    return std::nullopt;
+  }
+  if (argc < 2) {
+    std::cerr << usage;
+    return std::nullopt;
+  }
+  std::vector<std::pair<std::string, std::string>> edits;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (!own(a, i) && !common_option(argc, argv, i, edits)) {
+      std::cerr << "unknown argument " << a << "\n";
+      return std::nullopt;
+    }
+  }
+  try {
+    return edited_case(argv[1], edits);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return std::nullopt;
+  }
 }
