@@ -6,7 +6,9 @@
 #include <vector>
 
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
 
+#include "linalg/assembler.hpp"
 #include "linalg/constraints.hpp"
 
 namespace fibrane::solve {
@@ -44,6 +46,19 @@ inline RandomProblem make_problem(int n_dofs, int n_elements, int per_element, u
     p.k_local.push_back(Eigen::MatrixXd::NullaryExpr(per_element, per_element, [&] { return value(rng); }));
   }
   return p;
+}
+
+// `a` and the serial assembler `serial` (ended, same pattern) hold the same matrix values and full and
+// reduced residuals; only the summation order differs: 1e-14 relative to the largest entry.
+inline void expect_same_sums(const SparseAssembler& a, const SparseAssembler& serial) {
+  const Eigen::Map<const Eigen::VectorXd> v(a.matrix().valuePtr(), a.matrix().nonZeros());
+  const Eigen::Map<const Eigen::VectorXd> v_serial(serial.matrix().valuePtr(), serial.matrix().nonZeros());
+  ASSERT_EQ(v.size(), v_serial.size());
+  EXPECT_LE((v - v_serial).cwiseAbs().maxCoeff(), 1e-14 * v_serial.cwiseAbs().maxCoeff());
+  EXPECT_LE((a.full_residual() - serial.full_residual()).cwiseAbs().maxCoeff(),
+            1e-14 * serial.full_residual().cwiseAbs().maxCoeff());
+  EXPECT_LE((a.reduced_residual() - serial.reduced_residual()).cwiseAbs().maxCoeff(),
+            1e-14 * serial.reduced_residual().cwiseAbs().maxCoeff());
 }
 
 inline Eigen::MatrixXd dense_t(const ConstraintSet& cs) {

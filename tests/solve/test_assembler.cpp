@@ -93,13 +93,7 @@ TEST(SparseAssembler, NestedCallersUseTheOverflowBuffer) {
         }
       }
       nested.end();
-      const Eigen::Map<const Eigen::VectorXd> v(nested.matrix().valuePtr(), nested.matrix().nonZeros());
-      const Eigen::Map<const Eigen::VectorXd> v_serial(serial.matrix().valuePtr(), serial.matrix().nonZeros());
-      ASSERT_EQ(v.size(), v_serial.size());
-      // Only the summation order differs: 1e-14 relative to the largest entry.
-      EXPECT_LE((v - v_serial).cwiseAbs().maxCoeff(), 1e-14 * v_serial.cwiseAbs().maxCoeff());
-      EXPECT_LE((nested.full_residual() - serial.full_residual()).cwiseAbs().maxCoeff(),
-                1e-14 * serial.full_residual().cwiseAbs().maxCoeff());
+      expect_same_sums(nested, serial);
     }
   }
 }
