@@ -151,11 +151,18 @@ bool Coupling::collect_pairs() {
   return changed;
 }
 
-void Coupling::accept(const State& /*state*/) {
+void Coupling::accept(const State& state) {
   request_soft_switches();
   warm_ = last_;
   std::fill(jump_.begin(), jump_.end(), 0.0);
   failed_jumps_.clear();
+  // The points that switch here are calibrated at this converged state, so that the model after the switch
+  // depends on the converged steps only (not on the predictor or the solver path of the next step).
+  if (soft_requests_.empty()) return;
+  update_soft_windows();
+  proximity_.update(current_points(shell_, state.u, state.dofs));
+  calibrate_soft_points(state.u, state.dofs);
+  build_soft_element();
 }
 
 void Coupling::reject() {
