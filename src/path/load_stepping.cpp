@@ -29,6 +29,10 @@ MethodState LoadStepping::save() const {
   s["steps"] = {static_cast<double>(steps_)};
   s["have_prev"] = {have_prev_ ? 1.0 : 0.0};
   s["q_prev"] = std::vector<double>(q_prev_.data(), q_prev_.data() + q_prev_.size());
+  if (have_prev2_) {
+    s["t_prev2"] = {t_prev2_};
+    s["q_prev2"] = std::vector<double>(q_prev2_.data(), q_prev2_.data() + q_prev2_.size());
+  }
   return s;
 }
 
@@ -40,7 +44,25 @@ void LoadStepping::restore(const MethodState& s) {
   have_prev_ = s.at("have_prev").at(0) != 0.0;
   const auto& qp = s.at("q_prev");
   q_prev_ = Eigen::Map<const Eigen::VectorXd>(qp.data(), static_cast<Eigen::Index>(qp.size()));
+  have_prev2_ = s.count("q_prev2") > 0;
+  if (have_prev2_) {
+    t_prev2_ = s.at("t_prev2").at(0);
+    const auto& qp2 = s.at("q_prev2");
+    q_prev2_ = Eigen::Map<const Eigen::VectorXd>(qp2.data(), static_cast<Eigen::Index>(qp2.size()));
+  }
   restored_ = true;
+}
+
+Eigen::VectorXd LoadStepping::predict(const Eigen::VectorXd& q, double t_new) const {
+  if (!control_.extrapolate || !have_prev_) return q;
+  if (control_.predictor_order < 2 || !have_prev2_)  // secant: q(t_new) ~ q + (q - q_prev) dt / dt_prev
+    return q + (q - q_prev_) * ((t_new - t_) / (t_ - t_prev_));
+  // Lagrange parabola through (t_prev2, q_prev2), (t_prev, q_prev), (t, q), evaluated at t_new.
+  const double a = t_prev2_, b = t_prev_, c = t_;
+  const double la = (t_new - b) * (t_new - c) / ((a - b) * (a - c));
+  const double lb = (t_new - a) * (t_new - c) / ((b - a) * (b - c));
+  const double lc = (t_new - a) * (t_new - b) / ((c - a) * (c - b));
+  return la * q_prev2_ + lb * q_prev_ + lc * q;
 }
 
 ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
@@ -50,7 +72,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     t_ = t_prev_ = sc.t_start;
     dt_ = std::min(sc.dt_initial, sc.dt_max);
     steps_ = 0;
-    have_prev_ = false;
+    have_prev_ = have_prev2_ = false;
   }
   ContinuationResult res;
   res.t_reached = t_;
@@ -70,9 +92,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     double t_new = t_;
     for (;;) {
       t_new = (sc.t_end - (t_ + dt_try) <= t_eps) ? sc.t_end : t_ + dt_try;
-      q_trial = q;
-      if (sc.extrapolate && have_prev_)  // secant predictor: q(t_new) ~ q + (q - q_prev) dt / dt_prev
-        q_trial += (q - q_prev_) * ((t_new - t_) / (t_ - t_prev_));
+      q_trial = predict(q, t_new);
       newton = newton_solve(sys, q_trial, t_new, newton_, solver);
       res.total_iterations += newton.iterations;
       if (newton.converged) break;
@@ -92,6 +112,11 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
         if (const std::string hint = sys.failure_hint(); !hint.empty() && !limit) res.message += ". " + hint;
         return res;
       }
+    }
+    if (have_prev_ && sc.predictor_order >= 2) {
+      q_prev2_.swap(q_prev_);
+      t_prev2_ = t_prev_;
+      have_prev2_ = true;
     }
     q_prev_ = q;
     t_prev_ = t_;

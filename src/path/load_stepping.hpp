@@ -12,7 +12,10 @@ struct StepControl {
   int easy_iterations = 4;   // a step converging in at most this many iterations lets dt grow
   double growth = 1.5, cutback = 0.5;
   int max_steps = 100000;
-  bool extrapolate = true;   // secant predictor from the last two converged states
+  bool extrapolate = true;   // predict each step's start from the last converged states
+  // 1: the secant through the last two converged states; 2: the parabola through the last three (the secant
+  // while fewer than three exist).
+  int predictor_order = 1;
   // A failure below dt_min after at least one converged step ends the run as Outcome::limit_point
   // instead of Outcome::failed (displacement-driven pull-off: the path turns back in t there).
   bool stop_at_limit_point = false;
@@ -38,8 +41,11 @@ class LoadStepping final : public ContinuationMethod {
   // Path state carried between steps (and across a restart).
   double t_ = 0, t_prev_ = 0, dt_ = 0;
   int steps_ = 0;
-  Eigen::VectorXd q_prev_;
-  bool have_prev_ = false, restored_ = false;
+  double t_prev2_ = 0;
+  Eigen::VectorXd q_prev_, q_prev2_;
+  bool have_prev_ = false, have_prev2_ = false, restored_ = false;
+  // The predicted state at t_new from q (at t_) and the stored converged states.
+  Eigen::VectorXd predict(const Eigen::VectorXd& q, double t_new) const;
 };
 
 }  // namespace fibrane::solve

@@ -1,5 +1,5 @@
 // Quasi-time continuation: displacement control through a limit point, cut-back and recovery, failure
-// below dt_min, step-size control, reuse of the symbolic analysis.
+// below dt_min, step-size control, reuse of the symbolic analysis, the predictors and their restart.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +7,7 @@
 #include "common/error.hpp"
 #include "path/load_stepping.hpp"
 #include "spring_network.hpp"
+#include "toy_systems.hpp"
 
 namespace fibrane::solve {
 namespace {
@@ -212,6 +213,66 @@ TEST(Continuation, SecantPredictorSavesIterations) {
     iterations[extrapolate] = res.total_iterations;
   }
   EXPECT_LT(iterations[1], iterations[0]);
+}
+
+// r = q - (a t + b t^2): the path is a parabola in t. The quadratic predictor reproduces it exactly from
+// the third step on (Newton's first residual is round-off, below the tolerance: no update), also across
+// the steps whose size grows; the secant predictor leaves an O(dt^2) residual at every step.
+TEST(Continuation, QuadraticPredictorFollowsAParabolicPathExactly) {
+  const Eigen::Vector2d a(1.0, -2.0), b(3.0, 0.5);
+  auto path = [&](double t) -> Eigen::VectorXd { return a * t + b * t * t; };
+  int iterations[3];
+  for (int order : {1, 2}) {
+    testing::ToySystem parabola(
+        2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return q - path(t); },
+        [](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return Eigen::MatrixXd::Identity(2, 2); },
+        [&](const Eigen::VectorXd&, double t) -> Eigen::VectorXd { return -(a + 2 * t * b); });
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
+    StepControl sc;
+    sc.dt_initial = 0.05;
+    sc.dt_max = 0.2;
+    sc.predictor_order = order;
+    const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(parabola, q, *solver, nullptr);
+    ASSERT_TRUE(res.completed());
+    EXPECT_GE(res.steps, 7);  // 0.05, 0.075, 0.1125, 0.169, 0.2, ...: sizes grow, then stay
+    EXPECT_LT((q - path(1.0)).norm(), 1e-12);
+    iterations[order] = res.total_iterations;
+  }
+  EXPECT_EQ(iterations[2], 2);  // the first step (no predictor) and the second (secant)
+  EXPECT_GT(iterations[1], 5);
+}
+
+// A run stopped after three steps and continued by a fresh LoadStepping from save() / restore() takes the
+// same steps with the same predictions as the uninterrupted run: the same iterations and the same end state
+// to round-off (both compute the same operations; the tolerance allows for a different summation order).
+TEST(Continuation, QuadraticPredictorContinuesAfterARestart) {
+  StepControl sc;
+  sc.dt_initial = sc.dt_max = 0.1;
+  sc.predictor_order = 2;
+  auto run = [&](bool interrupted) {
+    SpringNetwork truss = make_truss();
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(truss.size());
+    LoadStepping first(sc, NewtonOptions{});
+    ContinuationResult res = first.run(truss, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
+      return !interrupted || rep.step < 3;
+    });
+    int iterations = res.total_iterations;
+    if (interrupted) {
+      EXPECT_EQ(res.outcome, Outcome::stopped);
+      LoadStepping second(sc, NewtonOptions{});
+      second.restore(first.save());
+      res = second.run(truss, q, *solver, nullptr);
+      iterations += res.total_iterations;
+    }
+    EXPECT_TRUE(res.completed());
+    return std::make_pair(iterations, Eigen::VectorXd(q));
+  };
+  const auto [whole_iterations, whole_q] = run(false);
+  const auto [resumed_iterations, resumed_q] = run(true);
+  EXPECT_EQ(resumed_iterations, whole_iterations);
+  EXPECT_LT((resumed_q - whole_q).norm(), 1e-12 * whole_q.norm());
 }
 
 TEST(Continuation, InvalidStepControlIsAnInputError) {
