@@ -170,8 +170,9 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     small_update = opt.tol_increment > 0 && dq.norm() <= opt.tol_increment * q.norm();
     rep.iterations = it + 1;
     // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
-    // factorisation just made (while each cuts |r| by 4, above).
-    if (fresh) reuse = opt.reuse_below > 0 && it > 0 && contraction <= opt.reuse_below;
+    // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
+    // factorisation is tried at once.
+    if (fresh) reuse = opt.reuse_below > 0 && (it > 0 ? contraction <= opt.reuse_below : opt.reuse_first);
     const double tolerance = std::max(opt.tol_relative * scale, opt.tol_absolute);
     expect_converged = it > 0 && fresh && norm * contraction * contraction <= tolerance;
   }

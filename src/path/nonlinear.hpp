@@ -69,6 +69,11 @@ struct NewtonOptions {
   // |r| by at least 4; otherwise the tangent is assembled and factorised again. Where Newton converges
   // quadratically this replaces the last factorisations of a step by solves.
   double reuse_below = 0;
+  // With reuse_below: the factorisation of a step's first iterate is reused from the next update on, under
+  // the same rule (each update must cut |r| by 4, else the tangent is factorised), where Newton's first
+  // update already lands in the fast regime (a good predictor) and its second factorisation would be
+  // spent on a contraction the first one gives as well.
+  bool reuse_first = false;
   // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
   // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term
   // eta = 0.9 (|r_k| / |r_k-1|)^2 (forcing_max for the first update), at most forcing_max, and never

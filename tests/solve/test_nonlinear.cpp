@@ -7,6 +7,7 @@
 
 #include "path/nonlinear.hpp"
 #include "spring_network.hpp"
+#include "toy_systems.hpp"
 
 namespace fibrane::solve {
 namespace {
@@ -98,22 +99,61 @@ TEST(Newton, ConvergesQuadraticallyToTheAnalyticalChain) {
 TEST(Newton, ReusedFactorisationsReachTheSameRootWithFewerFactorisations) {
   const int n = 6;
   const double load = 0.8;
-  auto solve = [&](double reuse_below) {
+  auto solve = [&](double reuse_below, bool reuse_first) {
     SpringNetwork chain = make_chain(n, load);
     Eigen::VectorXd q = Eigen::VectorXd::Zero(chain.size());
     auto solver = make_linear_solver("auto", true);
     NewtonOptions opt;
     opt.tol_relative = 1e-13;
     opt.reuse_below = reuse_below;
+    opt.reuse_first = reuse_first;
     const NewtonReport rep = newton_solve(chain, q, 1.0, opt, *solver);
     EXPECT_TRUE(rep.converged) << rep.failure;
     EXPECT_NEAR(chain.displacements()[2 * n], chain_tip_displacement(n, load), 1e-11);
     return rep;
   };
-  const NewtonReport full = solve(0.0), reused = solve(0.1);
+  const NewtonReport full = solve(0.0, false), reused = solve(0.1, false), first = solve(0.1, true);
   EXPECT_EQ(full.factorizations, full.iterations);
   EXPECT_LT(reused.factorizations, full.factorizations);
   EXPECT_LT(reused.factorizations, reused.iterations);
+  // reuse_first tries the first factorisation at once; on this chain it is too far from the root's tangent
+  // (the first update does not cut |r| by 4), so the rule factorises again: the same root regardless.
+  EXPECT_GT(first.factorizations, 1);
+  EXPECT_LE(first.factorizations, reused.factorizations);
+}
+
+// reuse_first where the first factorisation is good enough (r = K q + c q^3 - f with a small c: the
+// tangent changes little): one factorisation for the whole solve, each update cutting |r| by 4 or more.
+TEST(Newton, FirstFactorisationReusedWhereItContracts) {
+  const Eigen::Vector3d f(1.0, -0.5, 0.25);
+  Eigen::Matrix3d k;
+  k << 4, -1, 0, -1, 4, -1, 0, -1, 4;
+  const double c = 0.05;
+  testing::ToySystem cubic(
+      3, [&](const Eigen::VectorXd& q, double) -> Eigen::VectorXd { return k * q + c * q.array().cube().matrix() - f; },
+      [&](const Eigen::VectorXd& q, double) -> Eigen::MatrixXd {
+        return k + Eigen::MatrixXd((3 * c * q.array().square()).matrix().asDiagonal());
+      },
+      [&](const Eigen::VectorXd&, double) -> Eigen::VectorXd { return Eigen::VectorXd::Zero(3); });
+  auto solve = [&](bool reuse_first) {
+    Eigen::VectorXd q = Eigen::VectorXd::Constant(3, 1.0);
+    auto solver = make_linear_solver("auto", true);
+    NewtonOptions opt;
+    opt.tol_relative = 1e-13;
+    opt.reuse_below = 0.1;
+    opt.reuse_first = reuse_first;
+    const NewtonReport rep = newton_solve(cubic, q, 1.0, opt, *solver);
+    EXPECT_TRUE(rep.converged) << rep.failure;
+    EXPECT_LT((k * q + c * q.array().cube().matrix() - f).norm(), 1e-12);
+    for (std::size_t i = 1; i < rep.history.size(); ++i)
+      if (reuse_first) {
+        EXPECT_LE(rep.history[i], 0.25 * rep.history[i - 1]) << i;
+      }
+    return rep;
+  };
+  const NewtonReport plain = solve(false), first = solve(true);
+  EXPECT_GE(plain.factorizations, 2);
+  EXPECT_EQ(first.factorizations, 1);
 }
 
 TEST(Newton, ReactionsBalanceTheExternalLoad) {
