@@ -39,6 +39,9 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
   newton.line_search = optional_int_in(node, "line_search", 0, 30, newton.line_search,
                               "the most halvings of a Newton update (0: none)");
   newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
+  newton.reuse_first = node.get("reuse_first_factorization", newton.reuse_first);
+  if (newton.reuse_first && !(newton.reuse_below > 0))
+    node["reuse_first_factorization"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
 }
 
 // steps.solver, precision, low_rank and krylov (a map, or true for its defaults).
@@ -163,6 +166,8 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     stop->reject_unknown_keys();
   }
   s.extrapolate = node->get("extrapolate", s.extrapolate);
+  if (node->has("predictor"))
+    s.predictor_order = (*node)["predictor"].as_choice({"secant", "quadratic"}) == "quadratic" ? 2 : 1;
   read_newton(run.newton, *node);
   read_linear_solver(run.linear_solver, *node);
   if (node->has("reuse_factorization") && (run.linear_solver.krylov || run.linear_solver.precision == "single" ||
