@@ -165,9 +165,16 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     s.stop_at_limit_point = stop->get("at_limit_point", false);
     stop->reject_unknown_keys();
   }
-  s.extrapolate = node->get("extrapolate", s.extrapolate);
-  if (node->has("predictor"))
+  if (node->has("predictor")) {
     s.predictor_order = (*node)["predictor"].as_choice({"secant", "quadratic"}) == "quadratic" ? 2 : 1;
+    if (run.method != "load_stepping")
+      (*node)["predictor"].fail_message("applies to method: load_stepping (arc_length and dynamics predict "
+                                        "each step their own way)");
+  }
+  if (!node->get("extrapolate", true)) {
+    if (node->has("predictor")) (*node)["predictor"].fail_message("a predictor needs extrapolate: true");
+    s.predictor_order = 0;
+  }
   read_newton(run.newton, *node);
   read_linear_solver(run.linear_solver, *node);
   if (node->has("reuse_factorization") && (run.linear_solver.krylov || run.linear_solver.precision == "single" ||

@@ -175,8 +175,8 @@ NewtonReport GeneralizedAlpha::solve_step(TransientSystem& sys, double t_new, Ei
   const double dt = step_.dt;
   const ConstraintSet& cs = sys.constraint_set();
   // Predictor for h_{n+1} (q is the free part of h).
-  q_trial = control_.extrapolate ? cs.free_values(u_ref_ + dt * (s.v - g_old_[1]) + 0.5 * dt * dt * (s.a - g_old_[2]))
-                                 : cs.free_values(u_ref_);
+  q_trial = control_.predictor_order > 0 ? cs.free_values(u_ref_ + dt * (s.v - g_old_[1]) + 0.5 * dt * dt * (s.a - g_old_[2]))
+                                             : cs.free_values(u_ref_);
   const double alpha_f = options_.parameters.alpha_f;
   Eigen::VectorXd shift;
   if (alpha_f != 0.0) shift = alpha_f / (1.0 - alpha_f) * cs.restrict_vector(s.residual);

@@ -110,7 +110,7 @@ struct TransientState {
 // Generalized-alpha time stepping from t_start to t_end with the step control of load stepping: fixed steps
 // (dt_initial = dt_max, growth = 1) or adaptive ones (a step whose Newton iteration fails is retried with
 // dt * cutback, down to dt_min; a step converged in at most easy_iterations lets dt grow by `growth` up to
-// dt_max), optionally also by the local error estimate (TransientOptions::error_tolerance). `extrapolate` selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n).
+// dt_max), optionally also by the local error estimate (TransientOptions::error_tolerance). StepControl::predictor_order > 0 (`extrapolate: true`) selects the predictor h_{n+1} = h_n + dt h'_n + dt^2/2 h''_n (otherwise h_n).
 // Never steps past t_end. stop_at_limit_point is ignored: a dynamic run has no limit point.
 //
 // Energy account per step (Delta x = x_{n+1} - x_n, bar x = (x_n + x_{n+1}) / 2, full vectors):

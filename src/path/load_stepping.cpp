@@ -54,7 +54,7 @@ void LoadStepping::restore(const MethodState& s) {
 }
 
 Eigen::VectorXd LoadStepping::predict(const Eigen::VectorXd& q, double t_new) const {
-  if (!control_.extrapolate || !have_prev_) return q;
+  if (control_.predictor_order < 1 || !have_prev_) return q;
   if (control_.predictor_order < 2 || !have_prev2_)  // secant: q(t_new) ~ q + (q - q_prev) dt / dt_prev
     return q + (q - q_prev_) * ((t_new - t_) / (t_ - t_prev_));
   // Lagrange parabola through (t_prev2, q_prev2), (t_prev, q_prev), (t, q), evaluated at t_new.

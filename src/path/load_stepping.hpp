@@ -12,9 +12,8 @@ struct StepControl {
   int easy_iterations = 4;   // a step converging in at most this many iterations lets dt grow
   double growth = 1.5, cutback = 0.5;
   int max_steps = 100000;
-  bool extrapolate = true;   // predict each step's start from the last converged states
-  // 1: the secant through the last two converged states; 2: the parabola through the last three (the secant
-  // while fewer than three exist).
+  // Each step starts from a prediction of its state: 0: the last converged state; 1: the secant through
+  // the last two converged states; 2: the parabola through the last three (the secant while fewer exist).
   int predictor_order = 1;
   // A failure below dt_min after at least one converged step ends the run as Outcome::limit_point
   // instead of Outcome::failed (displacement-driven pull-off: the path turns back in t there).
