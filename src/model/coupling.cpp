@@ -85,7 +85,7 @@ bool Coupling::update(const State& state) {
   const Eigen::VectorXd& u = state.u;
   const solve::DofMap& dofs = state.dofs;
   proximity_.update(current_points(shell_, u, dofs));
-  update_soft_windows();
+  const bool windows_changed = update_soft_windows();
   const int n = static_cast<int>(quad_.size());
   FirstError error;
 #pragma omp parallel for schedule(dynamic, 16)
@@ -106,7 +106,7 @@ bool Coupling::update(const State& state) {
   });
   error.rethrow();
   calibrate_soft_points(u, dofs);
-  if (soft_changed_) build_soft_element();
+  if (windows_changed) build_soft_element();
   return collect_pairs();
 }
 
@@ -158,8 +158,7 @@ void Coupling::accept(const State& state) {
   failed_jumps_.clear();
   // The points that switch here are calibrated at this converged state, so that the model after the switch
   // depends on the converged steps only (not on the predictor or the solver path of the next step).
-  if (soft_requests_.empty()) return;
-  update_soft_windows();
+  if (!update_soft_windows()) return;
   proximity_.update(current_points(shell_, state.u, state.dofs));
   calibrate_soft_points(state.u, state.dofs);
   build_soft_element();

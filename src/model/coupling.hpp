@@ -139,7 +139,7 @@ class Coupling final : public Interaction {
   };
   double beta() const;  // 1 / (width d_eq)
   Eigen::Vector3d beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
-  void update_soft_windows();
+  bool update_soft_windows();  // switches and re-centres the requested points; false: none requested
   interaction::SoftWindow soft_window(const Eigen::Vector2d& centre) const;  // the window around `centre`
   void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
   bool collect_pairs();  // true if a pair outside the pattern appeared

@@ -26,8 +26,8 @@ interaction::SoftWindow Coupling::soft_window(const Eigen::Vector2d& centre) con
                                        interaction::soft_window_cell(soft_width_, d_eq), shell_.mirrors);
 }
 
-void Coupling::update_soft_windows() {
-  if (soft_requests_.empty()) return;
+bool Coupling::update_soft_windows() {
+  if (soft_requests_.empty()) return false;
   for (const auto& [i, centre] : soft_requests_) {
     interaction::SoftWindow w = soft_window(centre);
     if (soft_of_[i] < 0) {
@@ -44,6 +44,7 @@ void Coupling::update_soft_windows() {
   }
   soft_requests_.clear();
   soft_changed_ = true;
+  return true;
 }
 
 void Coupling::calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs) {
