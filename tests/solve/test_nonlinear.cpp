@@ -116,8 +116,9 @@ TEST(Newton, ReusedFactorisationsReachTheSameRootWithFewerFactorisations) {
   EXPECT_EQ(full.factorizations, full.iterations);
   EXPECT_LT(reused.factorizations, full.factorizations);
   EXPECT_LT(reused.factorizations, reused.iterations);
-  // reuse_first tries the first factorisation at once; on this chain it is too far from the root's tangent
-  // (the first update does not cut |r| by 4), so the rule factorises again: the same root regardless.
+  // reuse_first tries the first factorisation at once; on this chain an update with it stops cutting |r|
+  // by 4 before the root (one factorisation would otherwise do), so the rule factorises again: the same
+  // root, with no more factorisations than the plain reuse rule.
   EXPECT_GT(first.factorizations, 1);
   EXPECT_LE(first.factorizations, reused.factorizations);
 }
