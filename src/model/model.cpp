@@ -203,10 +203,17 @@ Eigen::VectorXd Model::tangent_times(const Eigen::VectorXd& x) const {
   return y;
 }
 
+// From the contributions themselves rather than the evaluation list, so that it holds before finalize()
+// as well (the case reader's memory estimate picks the solver path with it). Inertia is symmetric.
 bool Model::symmetric() const {
-  for (const auto& e : entries_)
-    if (!e.contribution->symmetric()) return false;
-  return true;
+  const auto all = [](const auto& list) {
+    return std::all_of(list.begin(), list.end(), [](const auto& c) {
+      if constexpr (requires { c->symmetric(); }) return c->symmetric();
+      else return c.symmetric();
+    });
+  };
+  return all(shells) && all(beams) && all(interactions_) && all(moments) && all(edge_moments) &&
+         nodal_loads.symmetric() && all(extra_);
 }
 
 void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
