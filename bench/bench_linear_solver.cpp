@@ -5,8 +5,8 @@
 // the case, i.e. with the symmetry probe for a model with point moments), "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
-// gives it to MUMPS), mumps-c[-lu][-single][-blr] (CHOLMOD's ordering; LU; single precision; block
-// low-rank with dropping 1e-4). Default: auto and symmetric-auto.
+// gives it to MUMPS), mumps-c[-lu][-single][-blr][-ooc] (CHOLMOD's ordering; LU; single precision; block
+// low-rank with dropping 1e-4; factor on disk in $TMPDIR or /tmp). Default: auto and symmetric-auto.
 // --shift S factorises K - S d I instead of K, d the mean of K's diagonal (S > 0 makes it indefinite).
 // --rounds R: the solvers take turns R times (each round builds every solver afresh), so that a machine
 // shared with other jobs slows all of them alike; the table has each one's best and median.
@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <fmt/format.h>
 #include <fstream>
 #include <iostream>
@@ -84,14 +85,18 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
     options.low_rank = true;
     return fibrane::solve::make_mumps(options);
   }
-  // "mumps-c[-lu][-single][-blr]": MUMPS with CHOLMOD's ordering per analysis, LU or LDL^T, single or
-  // double precision, block low-rank (dropping 1e-4) or full rank.
+  // "mumps-c[-lu][-single][-blr][-ooc]": MUMPS with CHOLMOD's ordering per analysis, LU or LDL^T, single
+  // or double precision, block low-rank (dropping 1e-4) or full rank, out of core (in $TMPDIR, else /tmp).
   if (kind.rfind("mumps-c", 0) == 0 && kind != "mumps-cholmod") {
     options.cholmod_ordering = true;
     options.unsymmetric = kind.find("-lu") != std::string::npos;
     options.single_precision = kind.find("-single") != std::string::npos;
     options.low_rank = kind.find("-blr") != std::string::npos;
     options.low_rank_tolerance = 1e-4;
+    if (kind.find("-ooc") != std::string::npos) {
+      const char* tmp = std::getenv("TMPDIR");
+      options.out_of_core_directory = tmp && *tmp ? tmp : "/tmp";
+    }
     return fibrane::solve::make_mumps(options);
   }
   if (kind == "mumps-cholmod") {

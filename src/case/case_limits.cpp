@@ -63,13 +63,15 @@ void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& setting
   const std::string& kind = settings.kind;
   const bool lu = kind == "mumps-lu" || kind == "umfpack" || kind == "umfpack64" || (kind == "auto" && !symmetric);
   const bool single = settings.precision == "single";
-  const bool mumps = kind == "mumps" || (kind == "auto" && (single || settings.low_rank > 0));
+  const bool out_of_core = !settings.out_of_core_directory.empty();
+  const bool mumps = kind == "mumps" || (kind == "auto" && (single || settings.low_rank > 0 || out_of_core));
   size.factor_scale = lu ? 2.2 : mumps ? 1.1 : 1.0;
   if (single) size.factor_scale *= 0.5;
+  if (out_of_core) size.factor_scale *= kOutOfCoreShare;
   const bool krylov = settings.krylov || single || settings.low_rank > 0;
   size.vectors = krylov ? 64.0 : 0.0;  // GMRES(restart) basis and work vectors
   size.path = std::string(lu ? "an LU" : "a symmetric factorisation") + (single ? " in single precision" : "") +
-              (krylov ? " with Krylov solves" : "");
+              (out_of_core ? " out of core" : "") + (krylov ? " with Krylov solves" : "");
 }
 
 void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& settings, const io::YamlNode& steps) {
@@ -135,7 +137,8 @@ void check_fits(const ModelSize& size, const io::YamlNode& node) {
       size.dofs, size.elements, size.nonzeros, size.bytes() / (1ull << 30),
       size.path.empty() ? "" : " (" + size.path + ")", available / (1ull << 30),
       memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)",
-      size.path.empty() || size.factor_scale <= 0.55 ? "" : ", or steps.precision: single"));
+      size.path.empty() || size.path.find("out of core") != std::string::npos ? ""
+                                                                               : ", or steps.out_of_core: true"));
 }
 
 int optional_int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {

@@ -46,10 +46,17 @@ struct ModelSize {
   double bytes() const;  // estimated peak memory of assembly and factorisation
 };
 
+// The share of an out-of-core factorisation's factor memory that stays in memory, relative to this
+// estimate's factor (whose fill the estimate puts 2.6-3.2 times above the measured factors of the bending
+// meshes): MUMPS's own in-core estimate for the 1.1 M full membrane's LU out of core (INFOG(27)) is 2.8 GB
+// against an estimated factor of 47 GB.
+constexpr double kOutOfCoreShare = 0.15;
+
 // The linear solver path a case's settings take for a model with or without a symmetric tangent:
 // factor_scale 2.2 for an LU (L and U; MUMPS's LU of the bending tangent has 2.2 times the entries of
 // CHOLMOD's LL^T), 1.1 for MUMPS's LDL^T, 1 for CHOLMOD, halved in single precision; block low-rank is
-// taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis.
+// taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis. Out of
+// core only the active fronts and the stack stay in memory: kOutOfCoreShare of the factor.
 void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric);
 
 // Block low-rank factorisations (steps.low_rank) are refused above this many unknowns (estimated) with a

@@ -1,9 +1,13 @@
 #include "case/case_steps.hpp"
 
 #include <fmt/format.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 
 #include "case/case_limits.hpp"
 #include "case/case_methods.hpp"
@@ -44,7 +48,32 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
     node["reuse_first_factorization"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
 }
 
-// steps.solver, precision, low_rank and krylov (a map, or true for its defaults).
+// steps.out_of_core: true (the temporary directory, $TMPDIR or /tmp), false, or a directory, which must
+// exist and be writable (MUMPS writes its factor files there). The directory, or empty for in core.
+std::string read_out_of_core(const io::YamlNode& node) {
+  static const char* const words[] = {"true", "false", "yes", "no", "on", "off", "y", "n"};
+  std::string text = node.as_string(), lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::string directory = text;
+  if (std::find(std::begin(words), std::end(words), lower) != std::end(words)) {
+    if (!node.as_bool()) return {};
+    const char* tmp = std::getenv("TMPDIR");
+    directory = tmp && *tmp ? tmp : "/tmp";
+  }
+  if (directory.empty()) node.fail("true, false, or the directory for the factor's files");
+  constexpr size_t kMumpsPathLength = 255;  // OOC_TMPDIR is char[256]
+  if (directory.size() > kMumpsPathLength)
+    node.fail_message(fmt::format("the directory '{}' has a name longer than MUMPS's {} characters", directory,
+                                  kMumpsPathLength));
+  std::error_code error;
+  if (!std::filesystem::is_directory(directory, error))
+    node.fail_message("the directory '" + directory + "' for the out-of-core factor files does not exist");
+  if (::access(directory.c_str(), W_OK | X_OK) != 0)
+    node.fail_message("the directory '" + directory + "' for the out-of-core factor files is not writable");
+  return directory;
+}
+
+// steps.solver, precision, low_rank, out_of_core and krylov (a map, or true for its defaults).
 void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& node) {
   if (node.has("solver"))
     ls.kind = node["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "mumps-lu", "umfpack", "umfpack64"});
@@ -61,11 +90,13 @@ void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& nod
       ls.krylov = k->as_bool();
     }
   }
-  const bool approximate = ls.precision == "single" || ls.low_rank > 0;
-  if (approximate && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu"))
-    node[node.has("precision") ? "precision" : "low_rank"].fail_message(
-        "single-precision and low-rank factorisations are MUMPS's: they need solver auto, mumps or mumps-lu, not " +
-        ls.kind);
+  if (auto o = node.optional("out_of_core")) ls.out_of_core_directory = read_out_of_core(*o);
+  const bool mumps_only = ls.precision == "single" || ls.low_rank > 0 || !ls.out_of_core_directory.empty();
+  if (mumps_only && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu")) {
+    const char* key = node.has("precision") ? "precision" : node.has("low_rank") ? "low_rank" : "out_of_core";
+    node[key].fail_message("single-precision, low-rank and out-of-core factorisations are MUMPS's: they need "
+                           "solver auto, mumps or mumps-lu, not " + ls.kind);
+  }
 }
 
 }  // namespace

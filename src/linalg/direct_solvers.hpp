@@ -61,6 +61,11 @@ struct MumpsOptions {
   // doubles, about half the time; solve() is then exact only to ~1e-7 relative times the condition
   // number, and exact() is false (KrylovReuseSolver refines it in double precision).
   bool single_precision = false;
+  // Out-of-core factorisation (ICNTL(22) = 1): MUMPS writes the factor to files in this directory as it
+  // is computed and reads it back at each solve, so only the active fronts stay in memory; empty: in core.
+  // The files (named fibrane-<process id>-*) are deleted with the factor (a new analysis, or the solver's
+  // end). The solution is the in-core factorisation's to round-off (exact() is unchanged).
+  std::string out_of_core_directory;
 };
 
 // True when fibrane was built with MUMPS (FIBRANE_MUMPS, the default).
@@ -69,7 +74,7 @@ bool mumps_available();
 // MUMPS symmetric LDL^T with threshold pivoting (SYM = 2) of the lower triangle: any symmetric matrix
 // that is not numerically singular; negative_eigenvalues() is INFOG(12). With options.unsymmetric the LU
 // of the whole matrix (SYM = 0), negative_eigenvalues() -1. Names "mumps" / "mumps-lu", with "-single"
-// for single precision and "-blr" for block low-rank. Throws std::logic_error if !mumps_available().
+// for single precision, "-blr" for block low-rank and "-ooc" out of core. Throws std::logic_error if !mumps_available().
 std::unique_ptr<LinearSolver> make_mumps(const MumpsOptions& options = {});
 
 }  // namespace fibrane::solve

@@ -68,7 +68,7 @@ class AutoSolver final : public LinearSolver {
  private:
   bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
-      if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_)});
+      if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_), .out_of_core_directory = {}});
       else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack(true);
       else fallback_ = make_cholmod_ldlt();
       fallback_->analyze(a);
@@ -118,7 +118,7 @@ class SymmetryProbingSolver final : public LinearSolver {
     return std::string(symmetric_ ? "symmetric-" : "") + (current_ ? current_->name() : "auto(none)");
   }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
-  std::string analysis_summary() const override { return symmetric_chain_ ? symmetric_chain_->analysis_summary() : ""; }
+  std::string analysis_summary() const override { return current_ ? current_->analysis_summary() : ""; }
   int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
   bool exact() const override { return current_ ? current_->exact() : true; }
   std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
@@ -195,16 +195,19 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool s
 namespace {
 
 // The direct solver of `settings`; with approximate = false, its exact counterpart (double precision,
-// full rank) for the same path.
+// full rank) for the same path. Out of core where the settings say so, exact or not.
 std::unique_ptr<LinearSolver> make_direct(const LinearSolverSettings& settings, bool symmetric, bool approximate) {
-  if (!approximate) return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric);
-  const std::string what = settings.low_rank > 0 ? "low_rank" : "precision: single";
+  const bool out_of_core = !settings.out_of_core_directory.empty();
+  if (!approximate && !out_of_core)
+    return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric);
+  const std::string what = !approximate ? "out_of_core" : settings.low_rank > 0 ? "low_rank" : "precision: single";
   if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
   MumpsOptions o;
   o.cholmod_ordering = true;
-  o.single_precision = settings.precision == "single";
-  o.low_rank = settings.low_rank > 0;
+  o.single_precision = approximate && settings.precision == "single";
+  o.low_rank = approximate && settings.low_rank > 0;
   o.low_rank_tolerance = settings.low_rank;
+  o.out_of_core_directory = settings.out_of_core_directory;
   if (settings.kind == "mumps-lu") return make_lu(o);
   if (settings.kind == "mumps" || settings.kind == "auto") {
     if (symmetric) return make_mumps(o);

@@ -49,13 +49,16 @@ class LinearSolver {
 };
 
 // How a run solves its linear systems (case files: steps.solver, steps.precision, steps.low_rank,
-// steps.krylov).
+// steps.out_of_core, steps.krylov).
 struct LinearSolverSettings {
   std::string kind = "auto";
   // "double", or "single": MUMPS factorisations in single precision (the symmetric chain's LL^T becomes
   // MUMPS's LDL^T), refined in double precision by the Krylov solves.
   std::string precision = "double";
   double low_rank = 0;   // > 0: MUMPS block low-rank factorisations with this dropping tolerance (CNTL(7))
+  // Non-empty: MUMPS factorisations out of core, the factor in files in this directory (the symmetric
+  // chain's LL^T becomes MUMPS's LDL^T, as for single precision); the solves are exact.
+  std::string out_of_core_directory;
   bool krylov = false;   // KrylovReuseSolver around the direct solver (always with single or low_rank)
   double krylov_tolerance = 1e-8;
   int krylov_max_iterations = 20;

@@ -3,6 +3,9 @@
 // triangle, or LU with threshold partial pivoting (SYM = 0) of the whole matrix; optionally block low-rank.
 // Threads come from the BLAS only (Debian's sequential MUMPS is built without OpenMP): set_thread_count()
 // bounds them.
+#include <unistd.h>
+
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -70,7 +73,7 @@ class MumpsSolver final : public LinearSolver {
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
   std::string name() const override {
     return std::string(options_.unsymmetric ? "mumps-lu" : "mumps") + Arithmetic::suffix +
-           (options_.low_rank ? "-blr" : "");
+           (options_.low_rank ? "-blr" : "") + (options_.out_of_core_directory.empty() ? "" : "-ooc");
   }
   long factor_nonzeros() const override;
   std::string analysis_summary() const override;
@@ -83,6 +86,7 @@ class MumpsSolver final : public LinearSolver {
     const char* meaning = last_status_ == -10 ? ": numerically singular matrix"
                           : last_status_ == -13 ? ": out of memory (an allocation of INFOG(2) entries failed)"
                           : last_status_ == -9 || last_status_ == -8 ? ": work space too small"
+                          : last_status_ == -90 ? ": out-of-core file error (is the directory's disk full?)"
                                                                       : "";
     return "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " + std::to_string(last_status2_) + meaning;
   }
@@ -108,6 +112,19 @@ class MumpsSolver final : public LinearSolver {
       icntl(35) = 2;
       id_.cntl[6] = static_cast<Real>(options_.low_rank_tolerance);  // CNTL(7)
     }
+    if (!options_.out_of_core_directory.empty()) set_out_of_core();
+  }
+  // ICNTL(22) = 1 with OOC_TMPDIR and OOC_PREFIX (the process id, so that runs sharing the directory
+  // keep apart); MUMPS deletes its files at JOB = -2.
+  void set_out_of_core() {
+    const std::string& dir = options_.out_of_core_directory;
+    const std::string prefix = "fibrane-" + std::to_string(::getpid()) + "-";
+    if (dir.size() >= sizeof(id_.ooc_tmpdir))
+      throw std::invalid_argument("MUMPS out-of-core directory name longer than " +
+                                  std::to_string(sizeof(id_.ooc_tmpdir) - 1) + " characters: " + dir);
+    std::snprintf(id_.ooc_tmpdir, sizeof(id_.ooc_tmpdir), "%s", dir.c_str());
+    std::snprintf(id_.ooc_prefix, sizeof(id_.ooc_prefix), "%s", prefix.c_str());
+    icntl(22) = 1;
   }
   // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
   int& icntl(int i) { return id_.icntl[i - 1]; }
@@ -225,16 +242,19 @@ long MumpsSolver<Arithmetic>::factor_nonzeros() const {
 }
 
 // "<analyses> with <ordering INFOG(7)>, <MB> MB": the memory is what the last factorisation used
-// (INFOG(22)), or the analysis's estimate (INFOG(17), or INFOG(36) for low-rank) before one.
+// (INFOG(22)), or the analysis's estimate before one: INFOG(17) in core, INFOG(27) out of core, INFOG(36)
+// and INFOG(38) for low-rank.
 template <class Arithmetic>
 std::string MumpsSolver<Arithmetic>::analysis_summary() const {
   if (!analyzed_) return {};
   static const char* const names[] = {"AMD", "the given order", "AMF", "SCOTCH", "PORD", "METIS", "QAMD"};
   const int ordering = infog(7);
   const std::string method = ordering >= 0 && ordering <= 6 ? names[ordering] : "ordering " + std::to_string(ordering);
-  const int megabytes = factored_ ? infog(22) : options_.low_rank ? infog(36) : infog(17);
+  const bool ooc = !options_.out_of_core_directory.empty();
+  const int estimate = options_.low_rank ? (ooc ? infog(38) : infog(36)) : (ooc ? infog(27) : infog(17));
+  const int megabytes = factored_ ? infog(22) : estimate;
   return std::to_string(analyses_) + " with " + method + ", " + std::to_string(megabytes) + " MB" +
-         (options_.low_rank ? ", block low-rank" : "");
+         (options_.low_rank ? ", block low-rank" : "") + (ooc ? ", factor on disk" : "");
 }
 
 }  // namespace

@@ -61,6 +61,11 @@ const Malformed cases[] = {
      "steps.predictor: applies to method: load_stepping"},
     {"predictor_without_extrapolation", "steps: {dt: 0.5}", "steps: {dt: 0.5, extrapolate: false, predictor: secant}",
      "steps.predictor: a predictor needs extrapolate: true"},
+    {"out_of_core_with_cholmod", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: cholmod, out_of_core: true}",
+     "steps.out_of_core: single-precision, low-rank and out-of-core factorisations are MUMPS's: they need solver "
+     "auto, mumps or mumps-lu, not cholmod"},
+    {"out_of_core_missing_directory", "steps: {dt: 0.5}", "steps: {dt: 0.5, out_of_core: /nonexistent/factor-files}",
+     "steps.out_of_core: the directory '/nonexistent/factor-files' for the out-of-core factor files does not exist"},
     {"vector_of_two", "origin: [0, 0, 0]", "origin: [0, 0]",
      "geometry.rectangle.origin: expected a sequence of 3 numbers [x, y, z], got a sequence of 2"},
     {"syntax_error", "steps: {dt: 0.5}", "steps: {dt: 0.5", "YAML syntax error"},

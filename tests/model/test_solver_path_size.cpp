@@ -1,9 +1,15 @@
 // The memory estimate follows the solver path a case takes: an LU holds 2.2 times a Cholesky factor,
-// single precision halves it, Krylov solves add GMRES's basis; the checks while bodies are read take the
-// lightest path (0.5).
+// single precision halves it, out of core keeps kOutOfCoreShare of it in memory, Krylov solves add GMRES's
+// basis; the checks while bodies are read take the lightest path (0.5). The path is chosen before the
+// model is finalised, so the model's symmetry must be known then.
 #include <gtest/gtest.h>
 
 #include "case/case_limits.hpp"
+#include "model/beam_body.hpp"
+#include "model/loads.hpp"
+#include "model/model.hpp"
+#include "spline/curve.hpp"
+#include "spline/knot_vector.hpp"
 
 namespace fibrane::casefile {
 namespace {
@@ -30,6 +36,26 @@ TEST(SolverPathSize, EstimateFollowsThePath) {
   // The difference in bytes is the factor's share: 12 bytes per Cholesky entry times the scale difference,
   // plus the Krylov vectors.
   EXPECT_NEAR(lu.bytes() - cholesky.bytes(), 12.0 * 1.2 * base.factor_nonzeros, 1e-6 * lu.bytes());
+  // Out of core: MUMPS on both paths (LDL^T 1.1, LU 2.2), of which kOutOfCoreShare stays in memory.
+  settings.precision = "double";
+  settings.out_of_core_directory = "/tmp";
+  const ModelSize disk_lu = factor_bytes(settings, false), disk_ldlt = factor_bytes(settings, true);
+  EXPECT_DOUBLE_EQ(disk_lu.factor_scale, 2.2 * kOutOfCoreShare);
+  EXPECT_DOUBLE_EQ(disk_ldlt.factor_scale, 1.1 * kOutOfCoreShare);
+  EXPECT_DOUBLE_EQ(disk_lu.vectors, 0.0);
+  EXPECT_NE(disk_lu.path.find("out of core"), std::string::npos);
+  EXPECT_LT(disk_lu.bytes(), cholesky.bytes());
+}
+
+TEST(SolverPathSize, ModelKnowsItsSymmetryBeforeItIsFinalised) {
+  model::Model m;
+  const std::vector<Eigen::Vector3d> points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}};
+  spline::NurbsCurve curve(spline::KnotVector(3, {0, 0, 0, 0, 1, 1, 1, 1}), points);
+  m.beams.emplace_back("fiber", curve, beam::BeamSection::circular(1000, 0.3, 0.1), Eigen::Vector3d::Zero());
+  EXPECT_TRUE(m.symmetric());
+  // An end moment's load stiffness is unsymmetric: the case reader's estimate must take the LU path.
+  m.moments.emplace_back(m.beams.back(), 1.0, Eigen::Vector3d(0, 0, 1), 0);
+  EXPECT_FALSE(m.symmetric());
 }
 
 }  // namespace
