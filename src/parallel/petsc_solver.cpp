@@ -2,6 +2,7 @@
 
 #include <malloc.h>
 #include <petscksp.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -193,6 +194,13 @@ void PetscSolver::create_solver() {
     FIBRANE_PETSC(MatMumpsSetIcntl(f, 35, 2));  // block low-rank factors, used in the solves too
     FIBRANE_PETSC(MatMumpsSetCntl(f, 7, options_.low_rank));
   }
+  if (!options_.out_of_core_directory.empty()) {
+    // PETSc leaves MUMPS's OOC_TMPDIR and OOC_PREFIX unset, and MUMPS then reads these variables when it
+    // opens its files (each process's names carry its MUMPS rank as well).
+    ::setenv("MUMPS_OOC_TMPDIR", options_.out_of_core_directory.c_str(), 1);
+    ::setenv("MUMPS_OOC_PREFIX", ("fibrane-" + std::to_string(::getpid()) + "-").c_str(), 1);
+    FIBRANE_PETSC(MatMumpsSetIcntl(f, 22, 1));
+  }
   FIBRANE_PETSC(KSPSetFromOptions(ksp_));
   FIBRANE_PETSC(MatCreateVecs(a_, &x_, &b_));
   FIBRANE_PETSC(VecScatterCreateToAll(x_, &to_all_, &x_all_));
@@ -377,7 +385,8 @@ Eigen::VectorXd PetscSolver::solve(const Eigen::VectorXd& b) const {
 }
 
 std::string PetscSolver::name() const {
-  const std::string mumps = std::string("mumps-") + (cholesky_ ? "ldlt" : "lu") + (options_.low_rank > 0 ? "-blr" : "");
+  const std::string mumps = std::string("mumps-") + (cholesky_ ? "ldlt" : "lu") + (options_.low_rank > 0 ? "-blr" : "") +
+                            (options_.out_of_core_directory.empty() ? "" : "-ooc");
   const std::string kind = options_.method == PetscSolverOptions::Method::gmres ? "gmres(" + mumps + ")" : mumps;
   return "petsc-" + kind + (d_.size() > 1 ? fmt::format(" on {} processes", d_.size()) : "");
 }
@@ -422,6 +431,7 @@ PetscSolverOptions petsc_solver_options(const solve::LinearSolverSettings& setti
                      (settings.low_rank > 0 ? "low_rank" : "krylov") + " asks for Krylov solves: drop one");
   PetscSolverOptions o;
   o.lu = kind == "mumps-lu";
+  o.out_of_core_directory = settings.out_of_core_directory;
   if (krylov) {
     o.method = PetscSolverOptions::Method::gmres;
     o.relative_tolerance = settings.krylov_tolerance;

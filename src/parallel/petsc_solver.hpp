@@ -38,9 +38,11 @@ struct PetscSolverOptions {
   // needs method gmres, which refines them.
   double low_rank = 0;
   bool lu = false;  // LU also for symmetric tangents (steps.solver: mumps-lu)
+  // Non-empty: out-of-core factorisations (ICNTL(22) = 1), each process's factor in files of this directory.
+  std::string out_of_core_directory;
 };
 
-// The distributed solver that a case's steps.solver, steps.precision, steps.low_rank and steps.krylov
+// The distributed solver that a case's steps.solver, precision, low_rank, out_of_core and krylov
 // (settings) and the command line's --mpi-solver ("" or "mumps": direct unless the case asks for Krylov
 // solves; "gmres") ask for: `krylov` and `low_rank` take GMRES with the case's tolerance and iteration
 // limit. InputError for what the distributed path cannot do: a serial solver named in steps.solver,

@@ -10,7 +10,9 @@ exactly) and the bending example at the coarse meshes of mpi_common.py:
                                                       factorisations, refined by GMRES)
   mpiexec -n 2 fibrane run CASE+mumps-lu             (steps.solver: mumps-lu -> MUMPS's LU of the
                                                       symmetric tangents, PETSc's AIJ matrix)
-(modified Newton's `reuse_factorization` removed from all three, as Krylov solves exclude it) and checks
+  mpiexec -n 2 fibrane run CASE+out_of_core          (steps.out_of_core: a directory -> each process's
+                                                      factor in files there, deleted at the run's end)
+(modified Newton's `reuse_factorization` removed from all four, as Krylov solves exclude it) and checks
 that each distributed history equals the serial one to 1e-6 of each column's largest magnitude with the
 same steps, Newton iterations and limit-point flags (the solves are refined to 1e-8 relative, so the
 Newton iterates agree to about that, well inside Newton's tolerance; `negative_eigenvalues` is -1 where a
@@ -28,8 +30,10 @@ import sys
 from mpi_common import CASES, case_text, compare, driver_arguments, mpi_environment, read_history, run, summary
 
 TOLERANCE = 1e-6
-VARIANTS = {"krylov": "  krylov: true\n", "low_rank": "  low_rank: 1.0e-10\n", "mumps-lu": ""}
-SOLVER_NAMES = {"krylov": "petsc-gmres(mumps-ldlt)", "low_rank": "petsc-gmres(mumps-ldlt-blr)", "mumps-lu": "petsc-mumps-lu"}
+VARIANTS = {"krylov": "  krylov: true\n", "low_rank": "  low_rank: 1.0e-10\n", "mumps-lu": "",
+            "out_of_core": "  out_of_core: FACTOR_DIRECTORY\n"}
+SOLVER_NAMES = {"krylov": "petsc-gmres(mumps-ldlt)", "low_rank": "petsc-gmres(mumps-ldlt-blr)", "mumps-lu": "petsc-mumps-lu",
+                "out_of_core": "petsc-mumps-ldlt-ooc"}
 
 
 def with_steps(text, lines):
@@ -76,6 +80,10 @@ def main():
             variant_text = with_steps(text, lines)
             if variant == "mumps-lu":
                 variant_text = variant_text.replace("  solver: auto\n", "  solver: mumps-lu\n", 1)
+            factor_directory = work / f"{label}-factor-files"
+            if variant == "out_of_core":
+                factor_directory.mkdir(exist_ok=True)
+                variant_text = variant_text.replace("FACTOR_DIRECTORY", str(factor_directory))
             variant_case.write_text(variant_text)
             directory = work / label
             run([a.mpiexec, "-n", "2", fibrane, "run", variant_case, "-q", "-o", directory], work, work / f"{label}.log")
@@ -86,6 +94,8 @@ def main():
                   f"{s.get('linear_solver_statistics', '')}")
             if not s["linear_solver"].startswith(SOLVER_NAMES[variant] + " "):
                 problems.append(f"{label}: linear_solver {s['linear_solver']!r}, not {SOLVER_NAMES[variant]}")
+            if variant == "out_of_core" and any(factor_directory.iterdir()):
+                problems.append(f"{label}: factor files left in {factor_directory}")
             if variant == "krylov" and not 0 < factorisations(s) < s["newton_iterations"]:
                 problems.append(f"{label}: {factorisations(s)} factorisations for {s['newton_iterations']} Newton "
                                 "iterations: no factorisation was reused")
