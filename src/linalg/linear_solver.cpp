@@ -12,6 +12,7 @@
 #include "common/error.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/krylov_reuse.hpp"
+#include "linalg/skew_correction.hpp"
 #include "linalg/symmetry_probe.hpp"
 
 namespace fibrane::solve {
@@ -59,6 +60,7 @@ class AutoSolver final : public LinearSolver {
     return ok;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override { return current_->solve_columns(b); }
   std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
@@ -92,53 +94,88 @@ class AutoSolver final : public LinearSolver {
 // beam kept in a plane: M . delta omega is then the variation of M theta). The values are compared with
 // their mirror entries before every factorisation (one pass over the values through a map built at
 // analyze(), ~1% of a factorisation), and the symmetric chain (AutoSolver, or a MUMPS LDL^T for
-// approximate factorisations) is used while the matrix is symmetric to round-off; otherwise the LU.
+// approximate or out-of-core factorisations) is used while the matrix is symmetric to round-off. An
+// unsymmetric matrix whose skew part lives on at most kMaxSkewRows rows (the end control points of beams
+// under point moments) is solved through the same chain's factorisation of its symmetric part and an
+// exact low-rank correction (SkewCorrection); any other, or one where that fails, takes the LU.
 class SymmetryProbingSolver final : public LinearSolver {
  public:
+  static constexpr size_t kMaxSkewRows = 48;
   using Factory = std::function<std::unique_ptr<LinearSolver>()>;
   SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
     probe_.build(a);
-    symmetric_ = probe_.symmetric(a);
-    pick(a);
+    pick(a, choose(a), true);
   }
   bool factorize(const SpMat& a) override {
     // analyze() is the caller's duty on a new pattern; a matrix of another size is re-analysed here.
     if (!current_ || (probe_.structurally_symmetric() && probe_.size() != a.nonZeros())) analyze(a);
-    const bool now_symmetric = probe_.symmetric(a);
-    if (now_symmetric != symmetric_) {
-      symmetric_ = now_symmetric;
-      pick(a);
+    pick(a, choose(a), false);
+    if (path_ == Path::skew) {
+      probe_.symmetric_part(a, s_);
+      if (current_->factorize(s_) && correction_.prepare(*current_, a, support_)) return true;
+      pick(a, Path::lu, false);  // S indefinite beyond the chain, or singular: this matrix goes to the LU
     }
     return current_->factorize(a);
   }
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
+    return path_ == Path::skew ? correction_.apply(current_->solve(b)) : current_->solve(b);
+  }
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override {
+    Eigen::MatrixXd x = current_->solve_columns(b);
+    if (path_ == Path::skew)
+      for (Eigen::Index j = 0; j < x.cols(); ++j) x.col(j) = correction_.apply(x.col(j));
+    return x;
+  }
   std::string name() const override {
-    return std::string(symmetric_ ? "symmetric-" : "") + (current_ ? current_->name() : "auto(none)");
+    const std::string inner = current_ ? current_->name() : "auto(none)";
+    if (path_ == Path::skew) return "symmetric-part(" + inner + ")+rank-" + std::to_string(correction_.rank());
+    return (path_ == Path::symmetric ? "symmetric-" : "") + inner;
   }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
   std::string analysis_summary() const override { return current_ ? current_->analysis_summary() : ""; }
-  int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
+  // The symmetric part's inertia is not the matrix's.
+  int negative_eigenvalues() const override {
+    return current_ && path_ != Path::skew ? current_->negative_eigenvalues() : -1;
+  }
   bool exact() const override { return current_ ? current_->exact() : true; }
   std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
 
  private:
-  // The symmetric chain is kept (with its ordering) while LU is in use.
-  void pick(const SpMat& a) {
-    if (symmetric_) {
+  enum class Path { symmetric, skew, lu };
+  // The path for a (support_ set for the skew path).
+  Path choose(const SpMat& a) {
+    if (probe_.symmetric(a)) return Path::symmetric;
+    support_ = probe_.skew_support(a);
+    return !support_.empty() && support_.size() <= kMaxSkewRows ? Path::skew : Path::lu;
+  }
+  // Makes `path` current, analysing its solver if it is another one than before or `analyse` is set. The
+  // symmetric chain (with its ordering) serves the symmetric and skew paths, and is kept while the LU is
+  // in use.
+  void pick(const SpMat& a, Path path, bool analyse) {
+    LinearSolver* before = current_;
+    path_ = path;
+    if (path != Path::lu) {
       if (!symmetric_chain_) symmetric_chain_ = make_symmetric_();
       current_ = symmetric_chain_.get();
     } else {
       if (!lu_) lu_ = make_lu_();
       current_ = lu_.get();
     }
-    current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
+    if (path != Path::skew) {
+      s_ = SpMat();
+      correction_.clear();
+    }
+    if (analyse || current_ != before) current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
   }
 
   Factory make_symmetric_, make_lu_;
   SymmetryProbe probe_;
-  bool symmetric_ = false;
+  Path path_ = Path::lu;
+  std::vector<int> support_;
+  SpMat s_;  // the symmetric part on the skew path
+  SkewCorrection correction_;
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
   LinearSolver* current_ = nullptr;
 };

@@ -21,6 +21,13 @@ class LinearSolver {
   // solve() for a caller that accepts |A x - b| <= relative_accuracy |b| (an inexact Newton method):
   // iterative solvers may stop there; direct ones solve as solve() does.
   virtual Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double /*relative_accuracy*/) const { return solve(b); }
+  // solve() for every column of b; solvers that can solve them together (one pass through the factor)
+  // override it.
+  virtual Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const {
+    Eigen::MatrixXd x(b.rows(), b.cols());
+    for (Eigen::Index j = 0; j < b.cols(); ++j) x.col(j) = solve(b.col(j));
+    return x;
+  }
   virtual std::string name() const = 0;
   virtual long factor_nonzeros() const = 0;
   // How the analyses went (how many, with which ordering method), for reports; may be empty.

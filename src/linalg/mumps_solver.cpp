@@ -70,7 +70,8 @@ class MumpsSolver final : public LinearSolver {
 
   void analyze(const SpMat& a) override;
   bool factorize(const SpMat& a) override;
-  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return solve_columns(b); }
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override;
   std::string name() const override {
     return std::string(options_.unsymmetric ? "mumps-lu" : "mumps") + Arithmetic::suffix +
            (options_.low_rank ? "-blr" : "") + (options_.out_of_core_directory.empty() ? "" : "-ooc");
@@ -143,7 +144,6 @@ class MumpsSolver final : public LinearSolver {
   std::vector<int> perm_in_;  // PERM_IN (1-based), the inverse of the pivot order
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
   mutable typename Arithmetic::Struct id_{};
-  mutable std::vector<Real> rhs_;
   bool analyzed_ = false, factored_ = false;
   int analyses_ = 0, last_status_ = 0, last_status2_ = 0;
 };
@@ -219,18 +219,18 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
 }
 
 template <class Arithmetic>
-Eigen::VectorXd MumpsSolver<Arithmetic>::solve(const Eigen::VectorXd& b) const {
-  if (!factored_ || b.size() != n_) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
+Eigen::MatrixXd MumpsSolver<Arithmetic>::solve_columns(const Eigen::MatrixXd& b) const {
+  const auto failed = [&] { return Eigen::MatrixXd::Constant(b.rows(), b.cols(), std::numeric_limits<double>::quiet_NaN()); };
+  if (!factored_ || b.rows() != n_) return failed();
   const BlasThreadsForFactor threads(factor_nonzeros());
-  rhs_.resize(static_cast<size_t>(n_));
-  for (Eigen::Index i = 0; i < n_; ++i) rhs_[static_cast<size_t>(i)] = static_cast<Real>(b[i]);
-  id_.rhs = rhs_.data();
-  id_.nrhs = 1;
+  Eigen::Matrix<Real, Eigen::Dynamic, Eigen::Dynamic> x = b.cast<Real>();  // column-major: LRHS = n
+  id_.rhs = x.data();
+  id_.nrhs = static_cast<int>(b.cols());
   id_.lrhs = static_cast<int>(n_);
   id_.job = 3;
   Arithmetic::call(&id_);
-  if (infog(1) < 0) return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
-  return Eigen::Map<const Eigen::Matrix<Real, Eigen::Dynamic, 1>>(rhs_.data(), n_).template cast<double>();
+  if (infog(1) < 0) return failed();
+  return x.template cast<double>();
 }
 
 // INFOG(29): entries in the factors after a factorisation (negative: millions); before, the analysis's

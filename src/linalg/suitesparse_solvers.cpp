@@ -67,6 +67,10 @@ class CholmodSolver final : public LinearSolver {
     const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
     return fact_.solve(b);
   }
+  Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override {
+    const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
+    return fact_.solve(b);
+  }
   std::string name() const override { return name_; }
   long factor_nonzeros() const override { return static_cast<long>(fact_.cholmod().lnz); }
   std::string analysis_summary() const override {

@@ -43,4 +43,28 @@ bool SymmetryProbe::symmetric(const Eigen::SparseMatrix<double>& a) const {
   return difference <= 1e-12 * largest;
 }
 
+std::vector<int> SymmetryProbe::skew_support(const Eigen::SparseMatrix<double>& a) const {
+  if (!structurally_symmetric_ || a.nonZeros() != size()) return {};
+  const double* v = a.valuePtr();
+  const double tolerance = 1e-12 * a.coeffs().cwiseAbs().maxCoeff();
+  std::vector<char> in(static_cast<size_t>(a.rows()), 0);
+  for (Eigen::Index col = 0; col < a.cols(); ++col)
+    for (Eigen::Index k = a.outerIndexPtr()[col]; k < a.outerIndexPtr()[col + 1]; ++k)
+      if (std::abs(v[k] - v[mirror_[static_cast<size_t>(k)]]) > tolerance) in[static_cast<size_t>(a.innerIndexPtr()[k])] = 1;
+  std::vector<int> rows;
+  for (size_t i = 0; i < in.size(); ++i)
+    if (in[i]) rows.push_back(static_cast<int>(i));
+  return rows;
+}
+
+void SymmetryProbe::symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const {
+  if (s.rows() != a.rows() || s.nonZeros() != a.nonZeros()) s = a;
+  if (!structurally_symmetric_ || a.nonZeros() != size()) return;
+  const double* v = a.valuePtr();
+  double* w = s.valuePtr();
+  const Eigen::Index nnz = a.nonZeros();
+#pragma omp parallel for schedule(static) if (nnz > 200000)
+  for (Eigen::Index k = 0; k < nnz; ++k) w[k] = 0.5 * (v[k] + v[mirror_[static_cast<size_t>(k)]]);
+}
+
 }  // namespace fibrane::solve

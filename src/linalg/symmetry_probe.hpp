@@ -20,6 +20,12 @@ class SymmetryProbe {
   // Whether every |a_ij - a_ji| <= 1e-12 max|a| (false without a map). `a` must have the pattern of
   // the last build().
   bool symmetric(const Eigen::SparseMatrix<double>& a) const;
+  // The rows (sorted) where a differs from its transpose by more than that tolerance: the skew part
+  // (a - a^T) / 2 lives in these rows and the same columns. Empty without a map or for another pattern.
+  std::vector<int> skew_support(const Eigen::SparseMatrix<double>& a) const;
+  // s = (a + a^T) / 2. Only the values are written when s has as many entries as a, which must then be
+  // a's pattern (a copy of a matrix of the last build()); otherwise s becomes a copy of a first.
+  void symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const;
 
  private:
   std::vector<int> mirror_;  // mirror_[k] = value index of the entry transposed to entry k
