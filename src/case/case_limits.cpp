@@ -59,9 +59,11 @@ double ModelSize::bytes() const {
          8.0 * vectors * dofs + 500.0 * points;
 }
 
-void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric) {
+void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, int skew_rows) {
   const std::string& kind = settings.kind;
-  const bool lu = kind == "mumps-lu" || kind == "umfpack" || kind == "umfpack64" || (kind == "auto" && !symmetric);
+  const bool low_rank_skew = skew_rows > 0 && skew_rows <= solve::kMaxSkewRows;
+  const bool lu = kind == "mumps-lu" || kind == "umfpack" || kind == "umfpack64" ||
+                  (kind == "auto" && skew_rows != 0 && !low_rank_skew);
   const bool single = settings.precision == "single";
   const bool out_of_core = !settings.out_of_core_directory.empty();
   const bool mumps = kind == "mumps" || (kind == "auto" && (single || settings.low_rank > 0 || out_of_core));
@@ -70,7 +72,8 @@ void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& setting
   if (out_of_core) size.factor_scale *= kOutOfCoreShare;
   const bool krylov = settings.krylov || single || settings.low_rank > 0;
   size.vectors = krylov ? 64.0 : 0.0;  // GMRES(restart) basis and work vectors
-  size.path = std::string(lu ? "an LU" : "a symmetric factorisation") + (single ? " in single precision" : "") +
+  size.path = std::string(lu ? "an LU" : "a symmetric factorisation") + (!lu && low_rank_skew ? " with a low-rank correction" : "") +
+              (single ? " in single precision" : "") +
               (out_of_core ? " out of core" : "") + (krylov ? " with Krylov solves" : "");
 }
 

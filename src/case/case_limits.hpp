@@ -52,12 +52,13 @@ struct ModelSize {
 // against an estimated factor of 47 GB.
 constexpr double kOutOfCoreShare = 0.15;
 
-// The linear solver path a case's settings take for a model with or without a symmetric tangent:
+// The linear solver path a case's settings take for a model whose tangent's skew part touches `skew_rows`
+// rows (0: symmetric; -1: any number; up to solve::kMaxSkewRows: "auto" factorises the symmetric part):
 // factor_scale 2.2 for an LU (L and U; MUMPS's LU of the bending tangent has 2.2 times the entries of
 // CHOLMOD's LL^T), 1.1 for MUMPS's LDL^T, 1 for CHOLMOD, halved in single precision; block low-rank is
 // taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis. Out of
 // core only the active fronts and the stack stay in memory: kOutOfCoreShare of the factor.
-void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, bool symmetric);
+void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, int skew_rows);
 
 // Block low-rank factorisations (steps.low_rank) are refused above this many unknowns (estimated) with a
 // located message: Debian 12's sequential MUMPS (5.5.1 with SCOTCH 7.0) ends the process with a

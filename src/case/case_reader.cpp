@@ -228,7 +228,9 @@ Case read_case_text(std::string text, const std::string& path, const std::string
   read_steps(c.run, root.optional("steps"));
   {  // the whole model's memory on the solver path it will take
     ModelSize size = model_size(m);
-    set_solver_path(size, c.run.linear_solver, m.symmetric());
+    // The distributed path has no low-rank correction: an unsymmetric tangent is an LU there.
+    const int skew_rows = m.skew_rows();
+    set_solver_path(size, c.run.linear_solver, distribution && skew_rows != 0 ? -1 : skew_rows);
     check_fits(size, root.has("steps") ? root["steps"] : root);
     // The limit is the sequential MUMPS's; the parallel one (distributed runs) has none.
     if (!distribution) check_low_rank(size, c.run.linear_solver, root.has("steps") ? root["steps"] : root);

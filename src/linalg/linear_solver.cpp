@@ -100,7 +100,6 @@ class AutoSolver final : public LinearSolver {
 // exact low-rank correction (SkewCorrection); any other, or one where that fails, takes the LU.
 class SymmetryProbingSolver final : public LinearSolver {
  public:
-  static constexpr size_t kMaxSkewRows = 48;
   using Factory = std::function<std::unique_ptr<LinearSolver>()>;
   SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
@@ -114,7 +113,8 @@ class SymmetryProbingSolver final : public LinearSolver {
     pick(a, choose(a), false);
     if (path_ == Path::skew) {
       probe_.symmetric_part(a, s_);
-      if (current_->factorize(s_) && correction_.prepare(*current_, a, support_)) return true;
+      SkewCorrection::dominate_support(s_, support_);
+      if (current_->factorize(s_) && correction_.prepare(*current_, a, s_, support_)) return true;
       pick(a, Path::lu, false);  // S indefinite beyond the chain, or singular: this matrix goes to the LU
     }
     return current_->factorize(a);
@@ -148,7 +148,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   Path choose(const SpMat& a) {
     if (probe_.symmetric(a)) return Path::symmetric;
     support_ = probe_.skew_support(a);
-    return !support_.empty() && support_.size() <= kMaxSkewRows ? Path::skew : Path::lu;
+    return !support_.empty() && support_.size() <= static_cast<size_t>(kMaxSkewRows) ? Path::skew : Path::lu;
   }
   // Makes `path` current, analysing its solver if it is another one than before or `analyse` is set. The
   // symmetric chain (with its ordering) serves the symmetric and skew paths, and is kept while the LU is

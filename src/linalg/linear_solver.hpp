@@ -72,6 +72,10 @@ struct LinearSolverSettings {
   bool verbose = false;  // KrylovReuseSolver's line per solve (fibrane run --newton-log)
 };
 
+// "auto" solves an unsymmetric matrix whose skew part (A - A^T) / 2 lives on at most this many rows through
+// its symmetric part's factorisation and an exact low-rank correction (linalg/skew_correction.hpp).
+constexpr int kMaxSkewRows = 48;
+
 // make_linear_solver(settings.kind, symmetric) and, for krylov, single precision or low rank, the
 // KrylovReuseSolver around it (src/solve/krylov_reuse.hpp). InputError for combinations this build
 // cannot make (single precision or low rank without MUMPS, or with the CHOLMOD kinds or umfpack).

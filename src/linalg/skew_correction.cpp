@@ -1,11 +1,22 @@
 #include "linalg/skew_correction.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace fibrane::solve {
 
+void SkewCorrection::dominate_support(Eigen::SparseMatrix<double>& s, const std::vector<int>& support) {
+  for (int i : support) {  // column i holds row i's entries (s is symmetric)
+    double off = 0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(s, i); it; ++it)
+      if (it.row() != i) off += std::abs(it.value());
+    double& diagonal = s.coeffRef(i, i);
+    diagonal = std::max(diagonal, off);
+  }
+}
+
 bool SkewCorrection::prepare(const LinearSolver& symmetric, const Eigen::SparseMatrix<double>& k,
-                             std::vector<int> support) {
+                             const Eigen::SparseMatrix<double>& s, std::vector<int> support) {
   support_ = std::move(support);
   const auto m = static_cast<Eigen::Index>(support_.size());
   Eigen::MatrixXd p = Eigen::MatrixXd::Zero(k.rows(), m);
@@ -13,8 +24,8 @@ bool SkewCorrection::prepare(const LinearSolver& symmetric, const Eigen::SparseM
   for (Eigen::Index a = 0; a < m; ++a) {
     p(support_[static_cast<size_t>(a)], a) = 1.0;
     for (Eigen::Index b = 0; b < m; ++b)
-      c_(a, b) = 0.5 * (k.coeff(support_[static_cast<size_t>(a)], support_[static_cast<size_t>(b)]) -
-                        k.coeff(support_[static_cast<size_t>(b)], support_[static_cast<size_t>(a)]));
+      c_(a, b) = k.coeff(support_[static_cast<size_t>(a)], support_[static_cast<size_t>(b)]) -
+                 s.coeff(support_[static_cast<size_t>(a)], support_[static_cast<size_t>(b)]);
   }
   z_ = symmetric.solve_columns(p);
   Eigen::MatrixXd pz(m, m);

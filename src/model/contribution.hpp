@@ -128,6 +128,9 @@ class Contribution {
   virtual void restore_state(const std::vector<double>& /*state*/) {}
   // False if the tangent may be unsymmetric (follower moments, the RF1 coupling).
   virtual bool symmetric() const { return true; }
+  // How many rows its tangent's skew part can touch: 0 for a symmetric tangent, -1 for any number.
+  // (The solver path and memory estimate use it: a skew part on few rows is a low-rank correction.)
+  virtual int skew_rows() const { return symmetric() ? 0 : -1; }
   // What the contribution saw in the last failed attempt that may explain it; empty if nothing.
   virtual std::string failure_hint() const { return {}; }
 };

@@ -61,6 +61,10 @@ std::vector<std::vector<int>> PointMoment::element_dofs(const solve::DofMap& dof
   return {beam_.element_dofs(dofs)[static_cast<std::size_t>(element_)]};
 }
 
+int PointMoment::skew_rows() const {
+  return 4 * static_cast<int>(beam_.elements[static_cast<std::size_t>(element_)].control_points.size());
+}
+
 double PointMoment::evaluate(const State& s, ElementSink& sink, Status& /*status*/) {
   if (!sink.owns(0)) return 0.0;
   const auto& cps = beam_.elements[element_].control_points;

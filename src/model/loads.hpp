@@ -52,6 +52,7 @@ class PointMoment final : public Contribution {
   std::vector<double> save_state() const override;  // the frame state
   void restore_state(const std::vector<double>& state) override;
   bool symmetric() const override { return false; }
+  int skew_rows() const override;  // the DOFs of the beam element it acts on
 
  private:
   const BeamBody& beam_;

@@ -203,18 +203,25 @@ Eigen::VectorXd Model::tangent_times(const Eigen::VectorXd& x) const {
   return y;
 }
 
-// From the contributions themselves rather than the evaluation list, so that it holds before finalize()
-// as well (the case reader's memory estimate picks the solver path with it). Inertia is symmetric.
-bool Model::symmetric() const {
-  const auto all = [](const auto& list) {
-    return std::all_of(list.begin(), list.end(), [](const auto& c) {
-      if constexpr (requires { c->symmetric(); }) return c->symmetric();
-      else return c.symmetric();
-    });
+// From the contributions themselves rather than the evaluation list, so that both hold before finalize()
+// as well (the case reader's memory estimate picks the solver path with them). Inertia is symmetric.
+int Model::skew_rows() const {
+  int rows = 0;
+  const auto add = [&rows](const Contribution& c) {
+    const int n = c.skew_rows();
+    rows = rows < 0 || n < 0 ? -1 : rows + n;
   };
-  return all(shells) && all(beams) && all(interactions_) && all(moments) && all(edge_moments) &&
-         nodal_loads.symmetric() && all(extra_);
+  for (const auto& c : shells) add(c);
+  for (const auto& c : beams) add(c);
+  for (const auto& c : interactions_) add(*c);
+  for (const auto& c : moments) add(c);
+  for (const auto& c : edge_moments) add(c);
+  add(nodal_loads);
+  for (const auto& c : extra_) add(*c);
+  return rows;
 }
+
+bool Model::symmetric() const { return skew_rows() == 0; }
 
 void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");

@@ -109,6 +109,8 @@ class Model : public solve::TransientSystem {
   double residual_scale() const override { return load_scale_; }
   double roundoff_floor() const override { return roundoff_floor_; }
   bool symmetric() const override;
+  // The rows its tangent's skew part can touch: the contributions' together (-1: any number).
+  int skew_rows() const;
 
   // TransientSystem (needs `inertia`): the time step the next evaluations belong to, the prescribed
   // motion g(t) and its derivatives, the mass matrix.

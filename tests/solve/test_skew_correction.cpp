@@ -67,6 +67,21 @@ TEST(SkewCorrection, AutoSolvesThroughTheSymmetricPartAsTheLuDoes) {
   }
 }
 
+TEST(SkewCorrection, IndefinitenessInTheSkewRowsStaysWithTheCorrection) {
+  // The diagonal of the skew rows lowered by 10 (far below the grid's smallest eigenvalue): the symmetric
+  // part is indefinite there, as a point moment's load stiffness makes it. Made diagonally dominant in
+  // those rows, it is positive definite again, and the correction takes the difference back.
+  SpMat a = with_skew_rows(40, {300, 900}, 4);
+  for (int i : {300, 301, 900, 901}) a.coeffRef(i, i) -= 10.0;
+  auto solver = make_linear_solver("auto", false);
+  solver->analyze(a);
+  ASSERT_TRUE(solver->factorize(a)) << solver->failure_detail();
+  EXPECT_EQ(solver->name(), "symmetric-part(auto(cholmod))+rank-4");
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(a.rows(), 1.0, -1.0);
+  const Eigen::VectorXd reference = Eigen::MatrixXd(a).partialPivLu().solve(b);
+  EXPECT_LT((solver->solve(b) - reference).norm() / reference.norm(), 1e-11);
+}
+
 TEST(SkewCorrection, SkewOnManyRowsTakesTheLu) {
   std::vector<int> rows;
   for (int i = 0; i < 30; ++i) rows.push_back(40 * i + 3);  // 60 skew rows, above the limit of 48
