@@ -8,10 +8,11 @@ namespace fibrane::solve {
 void SkewCorrection::dominate_support(Eigen::SparseMatrix<double>& s, const std::vector<int>& support) {
   for (int i : support) {  // column i holds row i's entries (s is symmetric)
     double off = 0;
+    double* diagonal = nullptr;  // only an entry of the pattern: the analysis was made for it
     for (Eigen::SparseMatrix<double>::InnerIterator it(s, i); it; ++it)
       if (it.row() != i) off += std::abs(it.value());
-    double& diagonal = s.coeffRef(i, i);
-    diagonal = std::max(diagonal, off);
+      else diagonal = &it.valueRef();
+    if (diagonal) *diagonal = std::max(*diagonal, off);
   }
 }
 
