@@ -105,6 +105,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
     probe_.build(a);
+    s_ = SpMat();  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
     pick(a, choose(a), true);
   }
   bool factorize(const SpMat& a) override {

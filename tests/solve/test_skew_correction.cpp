@@ -82,6 +82,22 @@ TEST(SkewCorrection, IndefinitenessInTheSkewRowsStaysWithTheCorrection) {
   EXPECT_LT((solver->solve(b) - reference).norm() / reference.norm(), 1e-11);
 }
 
+TEST(SkewCorrection, ANewPatternOfTheSameSizeIsSolvedWithItsOwnSymmetricPart) {
+  // Rows 39 and 79 end a grid row, so the coupling to the next point adds two entries outside the grid's
+  // pattern: the two matrices have as many entries but different patterns.
+  const SpMat first = with_skew_rows(40, {39, 500}, 5), second = with_skew_rows(40, {79, 500}, 5);
+  ASSERT_EQ(first.nonZeros(), second.nonZeros());
+  ASSERT_NE(SpMat(first - second).norm(), 0.0);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(first.rows(), 1.0, 3.0);
+  auto solver = make_linear_solver("auto", false);
+  for (const SpMat* a : {&first, &second}) {
+    solver->analyze(*a);
+    ASSERT_TRUE(solver->factorize(*a)) << solver->failure_detail();
+    EXPECT_EQ(solver->name(), "symmetric-part(auto(cholmod))+rank-4");
+    EXPECT_LT((*a * solver->solve(b) - b).norm() / b.norm(), 1e-12);
+  }
+}
+
 TEST(SkewCorrection, SkewOnManyRowsTakesTheLu) {
   std::vector<int> rows;
   for (int i = 0; i < 30; ++i) rows.push_back(40 * i + 3);  // 60 skew rows, above the limit of 48
