@@ -11,7 +11,8 @@ exactly) and the bending example at the coarse meshes of mpi_common.py:
   mpiexec -n 2 fibrane run CASE+mumps-lu             (steps.solver: mumps-lu -> MUMPS's LU of the
                                                       symmetric tangents, PETSc's AIJ matrix)
   mpiexec -n 2 fibrane run CASE+out_of_core          (steps.out_of_core: a directory -> each process's
-                                                      factor in files there, deleted at the run's end)
+                                                      factor in files there while the run lasts (the
+                                                      directory is polled), deleted at the run's end)
 (modified Newton's `reuse_factorization` removed from all four, as Krylov solves exclude it) and checks
 that each distributed history equals the serial one to 1e-6 of each column's largest magnitude with the
 same steps, Newton iterations and limit-point flags (the solves are refined to 1e-8 relative, so the
@@ -23,9 +24,11 @@ nothing for what that path cannot do: `precision: single`, a serial solver (`sol
 `--mpi-solver mumps` against `krylov: true`.
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
+import pathlib
 import re
 import subprocess
 import sys
+import time
 
 from mpi_common import CASES, case_text, compare, driver_arguments, mpi_environment, read_history, run, summary
 
@@ -40,6 +43,20 @@ def with_steps(text, lines):
     """The case text with `lines` added to its steps and modified Newton's reuse removed (it excludes both)."""
     text = re.sub(r"\n  reuse_factorization: [^\n]*", "", text)
     return text.replace("\nsteps:\n", "\nsteps:\n" + lines, 1)
+
+
+def run_watching(command, cwd, log, directory):
+    """run() of mpi_common, polling `directory` while the command runs: the most files seen in it at once."""
+    with open(log, "w") as out:
+        process = subprocess.Popen(command, cwd=cwd, env=mpi_environment(), stdout=out, stderr=subprocess.STDOUT)
+        most = 0
+        while process.poll() is None:
+            most = max(most, sum(1 for _ in directory.iterdir()))
+            time.sleep(0.02)
+    if process.returncode != 0:
+        sys.stdout.write(pathlib.Path(log).read_text())
+        raise SystemExit(f"mpi_solvers: {' '.join(map(str, command))} exited with {process.returncode}")
+    return most
 
 
 def factorisations(s):
@@ -86,7 +103,16 @@ def main():
                 variant_text = variant_text.replace("FACTOR_DIRECTORY", str(factor_directory))
             variant_case.write_text(variant_text)
             directory = work / label
-            run([a.mpiexec, "-n", "2", fibrane, "run", variant_case, "-q", "-o", directory], work, work / f"{label}.log")
+            command = [a.mpiexec, "-n", "2", fibrane, "run", variant_case, "-q", "-o", directory]
+            if variant == "out_of_core":
+                # Each of the 2 processes writes its part of the factor there while the run lasts.
+                most = run_watching(command, work, work / f"{label}.log", factor_directory)
+                print(f"{label}: at most {most} factor files at once")
+                if most < 2:
+                    problems.append(f"{label}: {most} factor files seen in {factor_directory} during the run "
+                                    "(expected one per process at least)")
+            else:
+                run(command, work, work / f"{label}.log")
             problems += compare(serial, read_history(directory / "history.csv"), label, TOLERANCE,
                                 skipped=("negative_eigenvalues",))
             s = summary(directory)
