@@ -65,6 +65,7 @@ class KrylovReuseSolver final : public LinearSolver {
   std::string analysis_summary() const override;
   int negative_eigenvalues() const override { return fresh_ ? direct_->negative_eigenvalues() : -1; }
   std::string failure_detail() const override { return direct_->failure_detail(); }
+  void begin_step() override { direct_->begin_step(); }
   const KrylovReuseStatistics& statistics() const { return stats_; }
 
  private:

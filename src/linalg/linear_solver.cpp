@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <utility>
 #include <vector>
 
 #include "common/error.hpp"
@@ -30,7 +31,9 @@ using SpMat = Eigen::SparseMatrix<double>;
 // costs up to a factorisation (CHOLMOD stops at the first non-positive pivot, which for a few negative
 // eigenvalues comes late). So after a matrix that the fallback found indefinite, the next one goes to the
 // fallback first, and LL^T is first again once the fallback finds a matrix positive definite
-// (negative_eigenvalues() == 0).
+// (negative_eigenvalues() == 0). The first tangent of a step (begin_step()) follows the last step's first:
+// a predictor that overshoots (the secant on the full membrane from dt 0.03 on) makes every step start at an
+// indefinite tangent between positive definite ones, so there the fallback is first if it was last time.
 // The fallback is MUMPS's LDL^T with pivoting where fibrane has MUMPS: it gives the inertia at any size,
 // its analysis takes CHOLMOD's pivot order (METIS or AMD, already computed for LL^T; on the bending
 // example at 155 k unknowns MUMPS's own choice, AMF, took longer than CHOLMOD's whole analysis and gave 7 %
@@ -51,14 +54,20 @@ class AutoSolver final : public LinearSolver {
   }
   bool factorize(const SpMat& a) override {
     if (!llt_) analyze(a);
-    if (!fallback_first_) {
+    const bool first_of_step = std::exchange(step_starts_, false);
+    if (!(fallback_first_ || (first_of_step && step_start_indefinite_))) {
       current_ = llt_.get();
-      if (llt_->factorize(a)) return true;
+      if (llt_->factorize(a)) {
+        if (first_of_step) step_start_indefinite_ = false;
+        return true;
+      }
     }
     const bool ok = factorize_fallback(a);
     fallback_first_ = ok && current_->negative_eigenvalues() > 0;
+    if (first_of_step) step_start_indefinite_ = fallback_first_;
     return ok;
   }
+  void begin_step() override { step_starts_ = true; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override { return current_->solve_columns(b); }
   std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
@@ -87,6 +96,8 @@ class AutoSolver final : public LinearSolver {
   std::unique_ptr<LinearSolver> llt_, fallback_;
   LinearSolver* current_ = nullptr;
   bool fallback_first_ = false;  // the last matrix was indefinite (by the fallback's count)
+  bool step_starts_ = false;     // begin_step() was called: the next matrix is a step's first
+  bool step_start_indefinite_ = false;  // the last step's first matrix was indefinite
 };
 
 // For a model that cannot promise symmetry (point moments: Eq. (54)'s load stiffness is unsymmetric in
@@ -142,6 +153,9 @@ class SymmetryProbingSolver final : public LinearSolver {
   }
   bool exact() const override { return current_ ? current_->exact() : true; }
   std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
+  void begin_step() override {
+    if (symmetric_chain_) symmetric_chain_->begin_step();
+  }
 
  private:
   enum class Path { symmetric, skew, lu };

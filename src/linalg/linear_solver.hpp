@@ -45,6 +45,9 @@ class LinearSolver {
   // factorize() without reusing a factorisation of another matrix: for callers that need the inertia of
   // exactly this matrix. Only solvers that reuse factorisations (KrylovReuseSolver) tell the two apart.
   virtual bool factorize_exactly(const Eigen::SparseMatrix<double>& a) { return factorize(a); }
+  // Newton calls this before the first factorisation of each step attempt (the tangent at the predicted
+  // state), for solvers whose choice among factorisations may follow what the steps' first tangents were.
+  virtual void begin_step() {}
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
   // Used by newton_solve(); returns true if it analysed.

@@ -60,6 +60,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
   // bending example's steps mostly end inside reused factorisations, residual-only already: its count of
   // tangents did not change.)
   bool expect_converged = false;
+  solver.begin_step();
   for (int it = 0;; ++it) {
     bool with_tangent = !reuse && !expect_converged;
     sys.evaluate(q, t, with_tangent);

@@ -84,7 +84,9 @@ TEST(LinearSolver, EveryKindSolvesAfterANewPattern) {
         solver->analyze(a);
         ASSERT_TRUE(solver->factorize(a)) << kind << " at " << m;
         EXPECT_LT(relative_error(solver->solve(b), Eigen::MatrixXd(a).partialPivLu().solve(b)), 1e-10) << kind;
-        if (symmetric && std::string(kind) != "cholmod") EXPECT_EQ(solver->negative_eigenvalues(), 0) << kind;
+        if (symmetric && std::string(kind) != "cholmod") {
+          EXPECT_EQ(solver->negative_eigenvalues(), 0) << kind;
+        }
       }
     }
 }
@@ -125,6 +127,36 @@ TEST(LinearSolver, AutoReturnsToCholeskyAfterAnIndefiniteMatrix) {
   EXPECT_EQ(automatic->negative_eigenvalues(), 0);
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
   EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());  // condition number < 1e3
+}
+
+// A step's first matrix goes to the indefinite solver first where the last step's first was indefinite (a
+// predictor that overshoots at every step), and to LL^T again once such a matrix is positive definite; the
+// matrices within a step keep the rule above.
+TEST(LinearSolver, AutoStartsAStepWhereTheLastStepsFirstMatrixNeededTheFallback) {
+  const SpMat indefinite = grid_matrix(8, -1.3, 0.0), spd = grid_matrix(8, 0.1, 0.0);  // same pattern
+  auto automatic = make_linear_solver("auto", true);
+  automatic->analyze(spd);
+  auto factorize = [&](const SpMat& a) {
+    EXPECT_TRUE(automatic->factorize(a));
+    return automatic->name();
+  };
+  automatic->begin_step();
+  EXPECT_EQ(factorize(indefinite), auto_fallback("ldlt"));  // LL^T failed first
+  EXPECT_EQ(factorize(spd), auto_fallback("ldlt"));         // the rule within a step
+  EXPECT_EQ(factorize(spd), "auto(cholmod)");
+  automatic->begin_step();
+  EXPECT_EQ(factorize(indefinite), auto_fallback("ldlt"));  // straight to the fallback
+  EXPECT_GT(automatic->negative_eigenvalues(), 0);
+  EXPECT_EQ(factorize(spd), auto_fallback("ldlt"));
+  EXPECT_EQ(factorize(spd), "auto(cholmod)");
+  EXPECT_EQ(factorize(spd), "auto(cholmod)");  // not a step's first: LL^T
+  automatic->begin_step();
+  EXPECT_EQ(factorize(spd), auto_fallback("ldlt"));  // predicted indefinite, found positive definite
+  EXPECT_EQ(automatic->negative_eigenvalues(), 0);
+  automatic->begin_step();
+  EXPECT_EQ(factorize(spd), "auto(cholmod)");
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(64);
+  EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
 // Above 20 000 unknowns an indefinite matrix goes to MUMPS where the build has it, otherwise it skips

@@ -51,7 +51,7 @@ TEST(SkewCorrection, AutoSolvesThroughTheSymmetricPartAsTheLuDoes) {
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(1600, -1.0, 2.0);
   auto solver = make_linear_solver("auto", false);
   for (unsigned seed : {1u, 2u}) {
-    const SpMat a = with_skew_rows(40, {100, 101 + seed, 700, 1200}, seed);
+    const SpMat a = with_skew_rows(40, {100, 101 + static_cast<int>(seed), 700, 1200}, seed);
     if (seed == 1) solver->analyze(a);
     ASSERT_TRUE(solver->factorize(a)) << solver->failure_detail();
     EXPECT_EQ(solver->name(), "symmetric-part(auto(cholmod))+rank-8");
