@@ -123,6 +123,7 @@ class SymmetryProbingSolver final : public LinearSolver {
     // analyze() is the caller's duty on a new pattern; a matrix of another size is re-analysed here.
     if (!current_ || (probe_.structurally_symmetric() && probe_.size() != a.nonZeros())) analyze(a);
     pick(a, choose(a), false);
+    if (std::exchange(step_starts_, false) && path_ != Path::lu) current_->begin_step();
     if (path_ == Path::skew) {
       probe_.symmetric_part(a, s_);
       SkewCorrection::dominate_support(s_, support_);
@@ -153,9 +154,9 @@ class SymmetryProbingSolver final : public LinearSolver {
   }
   bool exact() const override { return current_ ? current_->exact() : true; }
   std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
-  void begin_step() override {
-    if (symmetric_chain_) symmetric_chain_->begin_step();
-  }
+  // Passed on to the symmetric chain with the step's first matrix, once its path is known (the chain is
+  // made at the first analysis, after Newton's first begin_step()).
+  void begin_step() override { step_starts_ = true; }
 
  private:
   enum class Path { symmetric, skew, lu };
@@ -191,6 +192,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   std::vector<int> support_;
   SpMat s_;  // the symmetric part on the skew path
   SkewCorrection correction_;
+  bool step_starts_ = false;  // begin_step() was called: the next matrix is a step's first
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
   LinearSolver* current_ = nullptr;
 };

@@ -110,5 +110,28 @@ TEST(SkewCorrection, SkewOnManyRowsTakesTheLu) {
   EXPECT_LT((a * solver->solve(b) - b).norm() / b.norm(), 1e-12);
 }
 
+// Newton marks a step's first matrix before the first analysis; the skew path passes the mark on to the
+// symmetric chain with that matrix, so its step rule (LinearSolver.AutoStartsAStep...) holds from the first
+// step on: after a first step that started indefinite, the second step's first matrix goes to the LDL^T.
+TEST(SkewCorrection, StepMarksReachTheSymmetricChain) {
+  const SpMat spd = with_skew_rows(8, {5, 20}, 1);
+  SpMat indefinite = spd;
+  for (int i = 0; i < indefinite.rows(); ++i) indefinite.coeffRef(i, i) -= 1.8;
+  auto solver = make_linear_solver("auto", false);
+  auto factorize = [&](const SpMat& a) {
+    EXPECT_TRUE(solver->factorize(a)) << solver->failure_detail();
+    return solver->name();
+  };
+  solver->begin_step();
+  solver->analyze(spd);
+  EXPECT_EQ(factorize(indefinite).find("cholmod"), std::string::npos);
+  EXPECT_EQ(factorize(spd).find("cholmod"), std::string::npos);  // the rule within a step
+  EXPECT_NE(factorize(spd).find("symmetric-part(auto(cholmod))"), std::string::npos);
+  solver->begin_step();
+  EXPECT_EQ(factorize(spd).find("cholmod"), std::string::npos);  // the last step's first was indefinite
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(64, -1.0, 2.0);
+  EXPECT_LT((spd * solver->solve(b) - b).norm(), 1e-10 * b.norm());
+}
+
 }  // namespace
 }  // namespace fibrane::solve
