@@ -1,7 +1,9 @@
 #!/bin/bash
 # Packs the built programs for a machine without Debian's packages (the scale measurements of
-# docs/performance.md on a 16-core machine): build/app/fibrane (serial) and build-petsc/app/fibrane (PETSc,
-# as fibrane-mpi), every shared library they and Open MPI's launcher load except glibc's, and Open MPI's
+# docs/performance.md on a 16-core machine): build/app/fibrane (serial), build/bench/bench_newton_breakdown
+# and build-petsc/app/fibrane (PETSc, as fibrane-mpi), every shared library they and Open MPI's launcher load
+# except glibc's, OpenBLAS's OpenMP build in lib-openblas-openmp/ where libopenblas0-openmp is installed
+# (chosen per run by LD_LIBRARY_PATH), and Open MPI's
 # run-time files (components, help texts, settings), which bench/remote/scale.sh puts back at the paths
 # Debian's Open MPI looks for them; xz and its library beside it, for a machine without xz.
 #
@@ -14,6 +16,7 @@ trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/bundle/bin" "$stage/bundle/lib" "$stage/bundle/system"
 
 cp build/app/fibrane "$stage/bundle/bin/fibrane"
+cp build/bench/bench_newton_breakdown "$stage/bundle/bin/"
 cp build-petsc/app/fibrane "$stage/bundle/bin/fibrane-mpi"
 cp "$(readlink -f /usr/bin/mpirun)" "$stage/bundle/bin/mpirun"
 cp /usr/bin/orted /usr/bin/time "$stage/bundle/bin/"
@@ -30,6 +33,13 @@ done | sort -u | while read -r lib; do
   grep -qx "$name" <<<"$glibc" && continue
   cp -L "$lib" "$stage/bundle/lib/$name"
 done
+
+openmp_blas=/usr/lib/x86_64-linux-gnu/openblas-openmp
+if [ -d "$openmp_blas" ]; then
+  mkdir -p "$stage/bundle/lib-openblas-openmp"
+  cp -L "$openmp_blas"/libopenblas.so.0 "$openmp_blas"/libblas.so.3 "$openmp_blas"/liblapack.so.3 \
+    "$stage/bundle/lib-openblas-openmp/"
+fi
 
 # Open MPI's and PMIx's run-time trees, at their absolute paths (headers left out).
 tar -C / -cf "$stage/bundle/system/openmpi.tar" --exclude='*/include' \

@@ -8,7 +8,12 @@
 #   3. the full membrane at the paper's resolution (bench/cases/bending-full-1m.yaml, 1.1 M unknowns), one
 #      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped;
 #   4. (only when PARTS names it) the quarter's three steps at 4 threads, and the 278 k step on 16
-#      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES.
+#      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES;
+#   5. (only when PARTS names it) the quarter's three steps by bench_newton_breakdown (where the time goes,
+#      per phase) at 2, 4 and 16 threads, and at 16 threads with OpenBLAS's OpenMP build, its threads
+#      sleeping (OMP_WAIT_POLICY=passive, as fibrane sets it) and spinning (active);
+#   6. (only when PARTS names it) the 1.1 M membrane's first step in one process of 16 threads on the
+#      in-memory default path (the case without out_of_core): time per Newton iteration and peak memory.
 # PARTS (default "1 2 3") picks the parts. Every run stops at DEADLINE seconds (default 560) from the start,
 # so that what was measured comes back when the machine's time runs out; each run's summary line is printed
 # as it ends, and the runs' logs are packed into $OUT/runs.tar.gz after each part. SMOKE=1 runs the same
@@ -74,6 +79,22 @@ measure() {
     "$dir/out/summary.json" 2>/dev/null | tr -s ' ' | tee -a "$log"
   cp "$dir/out/summary.json" "$dir/summary.json" 2>/dev/null
 }
+# One bench_newton_breakdown run: NAME, THREADS, TIME LIMIT, CASE, then VAR=VALUE settings of the environment.
+# The environment is fibrane's own (app/openmp_environment.cpp) unless the settings replace it; the summary
+# line has /usr/bin/time -v's figures, and the table follows it in scale.txt.
+breakdown() {
+  local name=$1 threads=$2 limit=$3 case=$4; shift 4
+  local dir=$work/$name; mkdir -p "$dir"
+  [ "$limit" -gt "$(left)" ] && limit=$(left)
+  if [ "$limit" -lt 10 ]; then say "$name: skipped (time is up)"; return; fi
+  local t0=$SECONDS
+  timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" OMP_WAIT_POLICY=passive OMP_THREAD_LIMIT="$threads" \
+    GLIBC_TUNABLES=glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184 "$@" \
+    time -v -o "$dir/time.0" bench_newton_breakdown "$case" --threads "$threads" > "$dir/table.txt" 2>&1
+  local rc=$?
+  say "$name: exit $rc after $((SECONDS - t0)) s; $(awk -F': ' '/User time/{u=$2} /System time/{s=$2} /Maximum resident/{m=$2} END{printf "user %.1f s, system %.1f s, peak %.2f GiB", u, s, m/1048576}' "$dir/time.0" 2>/dev/null)"
+  tee -a "$log" < "$dir/table.txt"
+}
 # The machine's memory in use (MiB; total less available), every 2 s.
 sample() { while :; do awk '/MemTotal/{t=$2} /MemAvailable/{a=$2} END{print int((t-a)/1024)}' /proc/meminfo; sleep 2; done; }
 stamp() { while IFS= read -r line; do echo "$EPOCHREALTIME $line"; done; }
@@ -84,9 +105,11 @@ if [ -n "${SMOKE:-}" ]; then
   sed -e 's/  t_end: 1.0/  t_end: 0.01/' examples/bending-full.yaml > "$full"
   sed -e 's/elements: \[100, 100\]/elements: [10, 10]/' -e 's/elements: 400/elements: 40/' \
       -e 's/t_end: 1.0/t_end: 0.035/' examples/bending.yaml > "$work/q3.yaml"
+  grep -v 'out_of_core' "$full" > "$work/big-in-memory.yaml"
 else
   full=bench/cases/bending-full-278k.yaml big=bench/cases/bending-full-1m.yaml procs="1 2 4 8 16" big_procs=8 q3_procs=16
   sed -e 's/t_end: 1.0/t_end: 0.035/' examples/bending.yaml > "$work/q3.yaml"
+  grep -v 'out_of_core' "$big" > "$work/big-in-memory.yaml"
 fi
 
 parts=${PARTS:-1 2 3}
@@ -120,6 +143,23 @@ if part 4; then
   measure q3-t4 0 4 90 "$work/q3.yaml"
   PETSC_OPTIONS="-mat_mumps_icntl_35 1 -mat_mumps_cntl_7 1e-8" \
     measure "full-p$q3_procs-blr" "$q3_procs" 1 "$(($(left) - 5))" "$full" --max-steps 1 --mpi-solver gmres
+  pack
+fi
+if part 5; then
+  say "== 5. the quarter's three steps, per phase: 2, 4, 16 threads; 16 with OpenBLAS's OpenMP build"
+  breakdown q3-bd-t2 2 150 "$work/q3.yaml"
+  breakdown q3-bd-t4 4 110 "$work/q3.yaml"
+  breakdown q3-bd-t16 16 100 "$work/q3.yaml"
+  omp_blas=$work/bundle/lib-openblas-openmp
+  breakdown q3-bd-t16-ompblas 16 100 "$work/q3.yaml" LD_LIBRARY_PATH="$omp_blas:$libs"
+  breakdown q3-bd-t16-ompblas-active 16 100 "$work/q3.yaml" LD_LIBRARY_PATH="$omp_blas:$libs" OMP_WAIT_POLICY=active
+  pack
+fi
+
+if part 6; then
+  say "== 6. the 1.1 M membrane in memory, first step, one process of 16 threads"
+  measure big-t16-in-memory 0 16 "$(($(left) - 5))" "$work/big-in-memory.yaml" --max-steps 1
+  cp "$work/big-t16-in-memory/stderr" "$OUT/big-in-memory-newton.txt" 2>/dev/null
   pack
 fi
 say "done after $((SECONDS - start)) s"
