@@ -41,8 +41,12 @@ using SpMat = Eigen::SparseMatrix<double>;
 // is final. Without MUMPS it is CHOLMOD's simplicial LDL^T up to kSimplicialLimit unknowns, then
 // UMFPACK's LU (no inertia, so never tried first): the simplicial LDL^T has no BLAS-3 kernels (impractical
 // on the bending example at 400 x 100 x 100, 273 k unknowns: docs/performance.md, "Linear solver"),
-// and without pivoting it can fail where LU does not. The fallbacks keep their symbolic analysis until
-// the next analyze().
+// and without pivoting it can fail where LU does not.
+// One factor at a time: before the fallback factorises, LL^T's values are freed (a failed LL^T's too) and
+// its analysis kept; before LL^T factorises, the fallback goes, analysis and all (MUMPS 5.5 cannot free
+// its factor alone), and is analysed again when next needed. The freed memory stays in the process for
+// the other factor (handing it back to the system made every switch fault in fresh pages), so the peak
+// is about the larger factor's, not both together's (docs/performance.md, "One factor at a time").
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
@@ -56,12 +60,14 @@ class AutoSolver final : public LinearSolver {
     if (!llt_) analyze(a);
     const bool first_of_step = std::exchange(step_starts_, false);
     if (!(fallback_first_ || (first_of_step && step_start_indefinite_))) {
+      fallback_.reset();
       current_ = llt_.get();
       if (llt_->factorize(a)) {
         if (first_of_step) step_start_indefinite_ = false;
         return true;
       }
     }
+    llt_->release_factor();
     const bool ok = factorize_fallback(a);
     fallback_first_ = ok && current_->negative_eigenvalues() > 0;
     if (first_of_step) step_start_indefinite_ = fallback_first_;
@@ -75,6 +81,9 @@ class AutoSolver final : public LinearSolver {
   std::string analysis_summary() const override { return llt_ ? llt_->analysis_summary() : ""; }
   int negative_eigenvalues() const override { return current_ ? current_->negative_eigenvalues() : -1; }
   std::string failure_detail() const override { return current_ ? current_->failure_detail() : ""; }
+  long held_factor_entries() const override {
+    return (llt_ ? llt_->held_factor_entries() : 0) + (fallback_ ? fallback_->held_factor_entries() : 0);
+  }
 
  private:
   bool factorize_fallback(const SpMat& a) {

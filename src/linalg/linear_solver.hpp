@@ -48,6 +48,12 @@ class LinearSolver {
   // Newton calls this before the first factorisation of each step attempt (the tangent at the predicted
   // state), for solvers whose choice among factorisations may follow what the steps' first tangents were.
   virtual void begin_step() {}
+  // Frees the numeric factor and keeps the analysis, for a caller that will not solve() with this solver
+  // before its next factorize() (solve() is undefined until then). Solvers without the distinction keep it.
+  virtual void release_factor() {}
+  // The numeric factor's entries that this solver holds now: 0 before a factorisation and after
+  // release_factor(); "auto": those of both of its solvers.
+  virtual long held_factor_entries() const { return factor_nonzeros(); }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
   // Used by newton_solve(); returns true if it analysed.

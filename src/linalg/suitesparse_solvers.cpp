@@ -14,7 +14,7 @@ using SpMat = Eigen::SparseMatrix<double>;
 // Eigen's CHOLMOD wrapper with its factor (cholmod_factor) readable.
 template <class Factorization>
 struct ReadableFactor : Factorization {
-  const cholmod_factor* factor() const { return this->m_cholmodFactor; }
+  cholmod_factor* factor() const { return this->m_cholmodFactor; }
 };
 
 // Negative entries of D in a simplicial LDL^T factor. CHOLMOD stores the factor column by column
@@ -78,6 +78,19 @@ class CholmodSolver final : public LinearSolver {
     return std::to_string(analyses_) + " with " + method;
   }
   int negative_eigenvalues() const override { return negative_; }
+  // A numeric factor back to a symbolic one of the same kind (cholmod_change_factor to CHOLMOD_PATTERN):
+  // the values go, the analysis (Perm, ColCount, the supernodes) stays for the next factorize().
+  void release_factor() override {
+    auto* f = fact_.factor();
+    if (!f || f->xtype == CHOLMOD_PATTERN) return;
+    cholmod_change_factor(CHOLMOD_PATTERN, f->is_ll, f->is_super, true, true, f, &fact_.cholmod());
+    negative_ = -1;
+  }
+  long held_factor_entries() const override {
+    const cholmod_factor* f = fact_.factor();
+    if (!f || f->xtype == CHOLMOD_PATTERN) return 0;
+    return static_cast<long>(f->is_super ? f->xsize : f->nzmax);
+  }
   // cholmod_factor::Perm: Perm[k] is the k-th pivot.
   std::vector<int> pivot_order() const {
     const cholmod_factor* f = fact_.factor();

@@ -153,9 +153,15 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
       }
       factor_valid = true;
       floor_estimate = sys.roundoff_floor();
-      if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d round-off floor ~ %.3e\n", t, it, floor_estimate);
       ++rep.factorizations;
       rep.negative_eigenvalues = solver.negative_eigenvalues();
+      if (opt.verbose) {
+        const std::string inertia = rep.negative_eigenvalues >= 0
+                                        ? ", " + std::to_string(rep.negative_eigenvalues) + " negative eigenvalues"
+                                        : "";
+        std::fprintf(stderr, "  newton t=%.6g it=%d factorised by %s%s; round-off floor ~ %.3e\n", t, it,
+                     solver.name().c_str(), inertia.c_str(), floor_estimate);
+      }
     }
     const Eigen::VectorXd dq = solver.solve_to(-r, forcing_term(opt, rep.history, scale));
     if (!dq.allFinite()) {

@@ -39,8 +39,12 @@ TEST(SnapToContactExample, ArcLengthPathHasSnapInThenPullOffWithHysteresis) {
   for (std::size_t i = 1; i < t.size(); ++i) {
     const bool unstable = i > snap_in + 1 && i < pull_off;
     const bool stable = i < snap_in || i > pull_off + 1;
-    if (unstable) EXPECT_EQ(negative[i], 1.0) << "step " << i;
-    if (stable) EXPECT_EQ(negative[i], 0.0) << "step " << i;
+    if (unstable) {
+      EXPECT_EQ(negative[i], 1.0) << "step " << i;
+    }
+    if (stable) {
+      EXPECT_EQ(negative[i], 0.0) << "step " << i;
+    }
   }
   // The hysteresis: the ends snap in lower than where they pull off (0.97 vs 1.28), and pull-off needs a
   // larger force than the free beam ever carries (1.11 vs 0.18).

@@ -159,6 +159,40 @@ TEST(LinearSolver, AutoStartsAStepWhereTheLastStepsFirstMatrixNeededTheFallback)
   EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
 }
 
+// "auto" holds one numeric factor at a time: the LL^T's values (of a failed attempt too) are freed before
+// the fallback factorises, and the fallback goes before LL^T factorises; each solve is still exact. A
+// released CHOLMOD factor keeps its analysis and factorises again.
+TEST(LinearSolver, AutoHoldsOneFactorAtATime) {
+  const SpMat indefinite = grid_matrix(30, -1.3, 0.0), spd = grid_matrix(30, 0.1, 0.0);  // same pattern
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(spd.rows());
+  auto llt = make_cholmod_llt();
+  llt->analyze(spd);
+  ASSERT_TRUE(llt->factorize(spd));
+  const long llt_entries = llt->held_factor_entries();
+  ASSERT_GT(llt_entries, 0);
+  llt->release_factor();
+  EXPECT_EQ(llt->held_factor_entries(), 0);
+  ASSERT_TRUE(llt->factorize(spd));
+  EXPECT_EQ(llt->held_factor_entries(), llt_entries);
+  EXPECT_LT((spd * llt->solve(b) - b).norm(), 1e-10 * b.norm());
+
+  auto automatic = make_linear_solver("auto", true);
+  automatic->analyze(spd);
+  ASSERT_TRUE(automatic->factorize(indefinite));  // LL^T fails, the fallback factorises
+  EXPECT_EQ(automatic->name(), auto_fallback("ldlt"));
+  EXPECT_GT(automatic->held_factor_entries(), 0);
+  EXPECT_EQ(automatic->held_factor_entries(), automatic->factor_nonzeros());  // the fallback's alone
+  EXPECT_LT((indefinite * automatic->solve(b) - b).norm(), 1e-8 * b.norm());
+  ASSERT_TRUE(automatic->factorize(spd));  // the fallback again (the last was indefinite)
+  ASSERT_TRUE(automatic->factorize(spd));  // LL^T
+  EXPECT_EQ(automatic->name(), "auto(cholmod)");
+  EXPECT_EQ(automatic->held_factor_entries(), llt_entries);  // LL^T's alone
+  EXPECT_LT((spd * automatic->solve(b) - b).norm(), 1e-10 * b.norm());
+  ASSERT_TRUE(automatic->factorize(indefinite));  // the fallback, analysed anew
+  EXPECT_EQ(automatic->held_factor_entries(), automatic->factor_nonzeros());
+  EXPECT_LT((indefinite * automatic->solve(b) - b).norm(), 1e-8 * b.norm());
+}
+
 // Above 20 000 unknowns an indefinite matrix goes to MUMPS where the build has it, otherwise it skips
 // the simplicial LDL^T (too slow there) and goes to LU.
 TEST(LinearSolver, AutoFallsBackForLargeIndefiniteMatrices) {
