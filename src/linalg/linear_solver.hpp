@@ -51,8 +51,9 @@ class LinearSolver {
   // Frees the numeric factor and keeps the analysis, for a caller that will not solve() with this solver
   // before its next factorize() (solve() is undefined until then). Solvers without the distinction keep it.
   virtual void release_factor() {}
-  // The numeric factor's entries that this solver holds now: 0 before a factorisation and after
-  // release_factor(); "auto": those of both of its solvers.
+  // The numeric factor's entries that this solver holds now: CHOLMOD's are 0 before a factorisation and
+  // after release_factor(); solvers without release_factor() give factor_nonzeros(); "auto": the sum
+  // over both of its solvers.
   virtual long held_factor_entries() const { return factor_nonzeros(); }
 
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.

@@ -159,7 +159,7 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
         const std::string inertia = rep.negative_eigenvalues >= 0
                                         ? ", " + std::to_string(rep.negative_eigenvalues) + " negative eigenvalues"
                                         : "";
-        std::fprintf(stderr, "  newton t=%.6g it=%d factorised by %s%s; round-off floor ~ %.3e\n", t, it,
+        std::fprintf(stderr, "  newton t=%.6g it=%d new tangent for %s%s; round-off floor ~ %.3e\n", t, it,
                      solver.name().c_str(), inertia.c_str(), floor_estimate);
       }
     }

@@ -175,6 +175,18 @@ TEST(LinearSolver, AutoHoldsOneFactorAtATime) {
   ASSERT_TRUE(llt->factorize(spd));
   EXPECT_EQ(llt->held_factor_entries(), llt_entries);
   EXPECT_LT((spd * llt->solve(b) - b).norm(), 1e-10 * b.norm());
+  // CHOLMOD's simplicial LDL^T (the fallback of builds without MUMPS) likewise.
+  auto ldlt = make_cholmod_ldlt();
+  ldlt->analyze(indefinite);
+  ASSERT_TRUE(ldlt->factorize(indefinite));
+  const long ldlt_entries = ldlt->held_factor_entries();
+  EXPECT_EQ(ldlt_entries, ldlt->factor_nonzeros());
+  ldlt->release_factor();
+  EXPECT_EQ(ldlt->held_factor_entries(), 0);
+  ASSERT_TRUE(ldlt->factorize(indefinite));
+  EXPECT_EQ(ldlt->held_factor_entries(), ldlt_entries);
+  EXPECT_GT(ldlt->negative_eigenvalues(), 0);
+  EXPECT_LT((indefinite * ldlt->solve(b) - b).norm(), 1e-8 * b.norm());
 
   auto automatic = make_linear_solver("auto", true);
   automatic->analyze(spd);
