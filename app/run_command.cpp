@@ -40,7 +40,9 @@ void register_run_command(CLI::App& app) {
   cmd->add_option("--max-steps", opt->max_steps,
                   "Stop after at most this many steps, at least 1 (default: the case's steps.max_steps)")
       ->check(CLI::Range(1, 100'000'000));
-  cmd->add_flag("--newton-log", opt->run.newton_log, "One line per Newton iteration (t, iteration, |r|) and one per factorisation (the solver, the negative eigenvalues where it counts them) on stderr");
+  cmd->add_flag("--newton-log", opt->run.newton_log,
+                "One line per Newton iteration (t, iteration, |r|) and one per new tangent (the solver that takes "
+                "it, and the negative eigenvalues where that solver counts them) on stderr");
   if (mpi_available())
     cmd->add_option("--mpi-solver", opt->mpi_solver,
                     "Distributed linear solver (also on one process): mumps (a MUMPS factorisation of every tangent, "

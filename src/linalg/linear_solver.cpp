@@ -45,9 +45,9 @@ using SpMat = Eigen::SparseMatrix<double>;
 // One factor at a time: before the fallback factorises, LL^T's values are freed (a failed LL^T's too) and
 // its analysis kept; before LL^T factorises, the fallback goes, analysis and all (MUMPS 5.5 cannot free
 // its factor alone), and is analysed again when next needed (without MUMPS, starting again at the
-// simplicial LDL^T). The freed memory stays in the process for
-// the other factor (handing it back to the system made every switch fault in fresh pages), so the peak
-// is about the larger factor's, not both together's (docs/performance.md, "One factor at a time").
+// simplicial LDL^T). The freed memory stays in the process for the other factor (handing it back to the
+// system made every switch fault in fresh pages), so the peak is about the larger factor's, not both
+// together's (docs/performance.md, "One factor at a time").
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;

@@ -39,7 +39,11 @@ inline CliResult run_cli_command(const std::string& shell_command) {
 }
 
 inline CliResult run_cli(const std::string& arguments) {
-  return run_cli_command("'" + fibrane_binary() + "' " + arguments);
+  std::string command = "'";  // appended piece by piece: GCC 12 warns (-Wrestrict) on "'" + std::string
+  command += fibrane_binary();
+  command += "' ";
+  command += arguments;
+  return run_cli_command(command);
 }
 
 // Starts `fibrane run CASE -q --threads 1 -o OUT` in the background (output to /dev/null); returns its pid.

@@ -59,8 +59,12 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   std::ofstream(shorter) << text.replace(text.find(from), from.size(), "t_end: 0.25");
   const auto rerun = run_cli("run '" + shorter.string() + "' -q --newton-log -o '" + out.string() + "'");
   ASSERT_EQ(rerun.exit_code, 0) << rerun.output;
-  // --newton-log: a line per Newton iteration, from the first iteration of the first step.
+  // --newton-log: a line per Newton iteration, from the first iteration of the first step, and one per new
+  // tangent naming the solver that took it and its inertia (the strip's tangent is positive definite).
   EXPECT_NE(rerun.output.find("newton t=0.05 it=0 |r|="), std::string::npos) << rerun.output;
+  EXPECT_NE(rerun.output.find("newton t=0.05 it=0 new tangent for auto(cholmod), 0 negative eigenvalues;"),
+            std::string::npos)
+      << rerun.output;
   int vtu = 0;
   for (const auto& f : std::filesystem::directory_iterator(out / "vtk")) vtu += f.path().extension() == ".vtu";
   EXPECT_EQ(vtu, 12);  // the initial state and 5 steps of 0.05, Bezier and sampled
