@@ -1,11 +1,11 @@
 #!/bin/bash
 # Packs the built programs for a machine without Debian's packages (the scale measurements of
-# docs/performance.md on a 16-core machine): build/app/fibrane (serial), build/bench/bench_newton_breakdown
-# and build-petsc/app/fibrane (PETSc, as fibrane-mpi), every shared library they and Open MPI's launcher load
-# except glibc's, OpenBLAS's OpenMP build in lib-openblas-openmp/ where libopenblas0-openmp is installed
-# (chosen per run by LD_LIBRARY_PATH), and Open MPI's
-# run-time files (components, help texts, settings), which bench/remote/scale.sh puts back at the paths
-# Debian's Open MPI looks for them; xz and its library beside it, for a machine without xz.
+# docs/performance.md on a 16-core machine): build/app/fibrane (serial), build/bench/bench_newton_breakdown,
+# build/bench/bench_linear_solver and build-petsc/app/fibrane (PETSc, as fibrane-mpi), every shared library
+# they and Open MPI's launcher load except glibc's, OpenBLAS's OpenMP build in lib-openblas-openmp/ where
+# libopenblas0-openmp is installed (chosen per run by LD_LIBRARY_PATH), and Open MPI's run-time files
+# (components, help texts, settings), which bench/remote/scale.sh puts back at the paths Debian's Open MPI
+# looks for them; xz and its library beside it, for a machine without xz.
 #
 #   bash bench/remote/make-bundle.sh [OUTPUT = devbundle/bundle.tar.xz]
 set -euo pipefail
@@ -16,7 +16,7 @@ trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/bundle/bin" "$stage/bundle/lib" "$stage/bundle/system"
 
 cp build/app/fibrane "$stage/bundle/bin/fibrane"
-cp build/bench/bench_newton_breakdown "$stage/bundle/bin/"
+cp build/bench/bench_newton_breakdown build/bench/bench_linear_solver "$stage/bundle/bin/"
 cp build-petsc/app/fibrane "$stage/bundle/bin/fibrane-mpi"
 cp "$(readlink -f /usr/bin/mpirun)" "$stage/bundle/bin/mpirun"
 cp /usr/bin/orted /usr/bin/time "$stage/bundle/bin/"

@@ -14,6 +14,10 @@
 #      sleeping (OMP_WAIT_POLICY=passive, as fibrane sets it) and spinning (active);
 #   6. (only when PARTS names it) the 1.1 M membrane's first step in one process of 16 threads on the
 #      in-memory default path (the case without out_of_core): time per Newton iteration and peak memory.
+#   7. (only when PARTS names it) memory over time, for the size estimate of src/case/case_limits.cpp: the
+#      47 k example and the 278 k membrane to t = 1 and bench_linear_solver's CHOLMOD factor of the 1.1 M
+#      membrane's first tangent, side by side with 2 threads each; each process's resident memory every
+#      second beside its time-stamped Newton log.
 # PARTS (default "1 2 3") picks the parts. Every run stops at DEADLINE seconds (default 560) from the start,
 # so that what was measured comes back when the machine's time runs out; each run's summary line is printed
 # as it ends, and the runs' logs are packed into $OUT/runs.tar.gz after each part. SMOKE=1 runs the same
@@ -97,6 +101,33 @@ breakdown() {
 }
 # The machine's memory in use (MiB; total less available), every 2 s.
 sample() { while :; do awk '/MemTotal/{t=$2} /MemAvailable/{a=$2} END{print int((t-a)/1024)}' /proc/meminfo; sleep 2; done; }
+# The resident memory (MiB) of the processes whose command line holds TAG (a run's program with its
+# launchers, whose share is a few MiB), every second.
+rss_of() {
+  while :; do
+    local sum=0
+    for pid in $(pgrep -f -- "$1"); do sum=$((sum + $(awk '/VmRSS/{print $2}' /proc/"$pid"/status 2>/dev/null || echo 0))); done
+    echo "$EPOCHREALTIME $((sum / 1024))"
+    sleep 1
+  done
+}
+# One run of COMMAND (fibrane or a bench program) with its resident memory profiled: NAME, TIME LIMIT,
+# COMMAND, arguments (the string NAME_DIR in them stands for the run's folder).
+profile() {
+  local name=$1 limit=$2 command=$3; shift 3
+  local dir=$work/$name; mkdir -p "$dir"
+  [ "$limit" -gt "$(left)" ] && limit=$(left)
+  local args=("${@//NAME_DIR/$dir}")
+  rss_of "$dir" > "$dir/rss" & local sampler=$!
+  local t0=$SECONDS
+  timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" time -v -o "$dir/time.0" "$command" "${args[@]}" \
+    > "$dir/stdout" 2> >(stamp > "$dir/stderr")
+  local rc=$?
+  kill $sampler 2>/dev/null
+  say "$name: exit $rc after $((SECONDS - t0)) s; $(awk -F': ' '/Maximum resident/{printf "peak %.2f GiB", $2/1048576}' "$dir/time.0" 2>/dev/null)"
+  grep -h -E '"(end_uz|start_uz|newton_iterations|wall_seconds|linear_solver_statistics)"' "$dir/out/summary.json" 2>/dev/null | tr -s ' ' | tee -a "$log"
+  tail -n 3 "$dir/stdout" | tee -a "$log"
+}
 stamp() { while IFS= read -r line; do echo "$EPOCHREALTIME $line"; done; }
 pack() { tar -C "$work" --exclude='*/out' -czf "$OUT/runs.tar.gz" $(cd "$work" && ls -d */ | grep -v bundle) 2>/dev/null; }
 
@@ -160,6 +191,16 @@ if part 6; then
   say "== 6. the 1.1 M membrane in memory, first step, one process of 16 threads"
   measure big-t16-in-memory 0 16 "$(($(left) - 5))" "$work/big-in-memory.yaml" --max-steps 1
   cp "$work/big-t16-in-memory/stderr" "$OUT/big-in-memory-newton.txt" 2>/dev/null
+  pack
+fi
+if part 7; then
+  say "== 7. memory over time: 47 k and 278 k to t = 1, CHOLMOD's factor of the 1.1 M tangent (2 threads each, side by side)"
+  small=examples/bending-full.yaml
+  [ -n "${SMOKE:-}" ] && small=$full
+  profile mem-47k "$(($(left) - 5))" fibrane run "$small" -o NAME_DIR/out --threads 2 --quiet --newton-log &
+  profile mem-278k "$(($(left) - 5))" fibrane run "$full" -o NAME_DIR/out --threads 2 --quiet --newton-log &
+  profile mem-1m-cholmod "$(($(left) - 5))" bench_linear_solver "$work/big-in-memory.yaml" --threads 2 --solver cholmod &
+  wait
   pack
 fi
 say "done after $((SECONDS - start)) s"

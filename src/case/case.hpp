@@ -57,6 +57,13 @@ struct Case {
     int line = 0;
   };
   std::map<std::string, Origin> body_origins;
+  // The memory estimate of the whole model on its solver path (case/case_limits.hpp), which the case
+  // passed: summary.json reports it beside the run's measured peak.
+  struct MemoryEstimate {
+    double bytes = 0;
+    std::string path;
+  };
+  MemoryEstimate memory_estimate;
 };
 
 }  // namespace fibrane::casefile

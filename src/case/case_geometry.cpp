@@ -75,10 +75,11 @@ std::vector<int> read_element_counts(const io::YamlNode& elements, int dims) {
   return counts;
 }
 
-// Control points per direction after refining a direction that has `existing` elements to `degree`,
-// `continuity` and `n` uniform elements (an upper bound: the existing knots stay).
-double refined_control_points(int existing, int degree, int continuity, int n) {
-  return static_cast<double>(n + existing) * (degree - continuity) + continuity + 1;
+// The pattern of a direction refined to `elements` elements of `degree` and `continuity`: that of a uniform
+// open knot vector (refining a direction that already has knots gives at most the new count plus the
+// existing elements, which the callers pass).
+DirectionPattern refined_pattern(int elements, int degree, int continuity) {
+  return direction_pattern(spline::KnotVector::open_uniform(degree, elements, continuity));
 }
 
 // Largest ratio of the longest to the shortest element of a geometric grading.
@@ -216,9 +217,9 @@ spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io:
   }();
   g.reject_unknown_keys();
   auto size = [&](int p, int c, const std::vector<int>& n) {
-    const int e0 = surface.knots(0).num_elements(), e1 = surface.knots(1).num_elements();
-    return shell_size(refined_control_points(e0, p, c, n[0]) * refined_control_points(e1, p, c, n[1]),
-                      static_cast<double>(n[0] + e0) * (n[1] + e1), p, p, p + 1);
+    const int e0 = n[0] + surface.knots(0).num_elements(), e1 = n[1] + surface.knots(1).num_elements();
+    return shell_size(refined_pattern(e0, p, c), refined_pattern(e1, p, c), static_cast<double>(e0) * e1,
+                      (p + 1) * (p + 1));
   };
   auto domain = [&](int d) { return std::make_pair(surface.knots(d).front(), surface.knots(d).back()); };
   apply_refinement(refine, 2, others, size, domain, [&](int d, int p, int c, int n, const Grading& g) {
@@ -270,8 +271,8 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
   }();
   g.reject_unknown_keys();
   auto size = [&](int p, int c, const std::vector<int>& n) {
-    const int e = curve.knots().num_elements();
-    return beam_size(refined_control_points(e, p, c, n[0]), n[0] + e, p, p + 1);
+    const int e = n[0] + curve.knots().num_elements();
+    return beam_size(refined_pattern(e, p, c), e, p + 1);
   };
   auto domain = [&](int) { return std::make_pair(curve.knots().front(), curve.knots().back()); };
   apply_refinement(refine, 1, others, size, domain, [&](int, int p, int c, int n, const Grading& g) {

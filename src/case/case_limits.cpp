@@ -52,11 +52,12 @@ ModelSize& ModelSize::operator+=(const ModelSize& o) {
 }
 
 double ModelSize::bytes() const {
-  // Vectors and per-DOF bookkeeping; element pattern positions (one int per element matrix entry, bounded
-  // by nonzeros times the number of elements sharing an entry, taken as 4); the matrix (value and index)
-  // twice (assembled and the solver's copy); the factor (value and index); per quadrature point state.
-  return 400.0 * dofs + 4.0 * 4.0 * nonzeros + 2.0 * 12.0 * nonzeros + 12.0 * factor_scale * factor_nonzeros +
-         8.0 * vectors * dofs + 500.0 * points;
+  // The program and its libraries' buffers; vectors and per-DOF bookkeeping; element pattern positions (one
+  // int per element matrix entry, taken as 4 per non-zero); the matrix (value and index) twice (assembled
+  // and the solver's copy); the factorisation's phase (kFactorPhase times the factor's value and index);
+  // the Krylov vectors; per quadrature point state.
+  return 0.3e9 + 400.0 * dofs + 4.0 * 4.0 * nonzeros + 2.0 * 12.0 * nonzeros +
+         kFactorPhase * 12.0 * factor_scale * factor_nonzeros + 8.0 * vectors * dofs + 500.0 * points;
 }
 
 void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, int skew_rows) {
@@ -86,35 +87,58 @@ void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& se
       kMaxLowRankUnknowns, size.dofs));
 }
 
-ModelSize shell_size(double control_points, double elements, int p, int q, int points) {
+DirectionPattern direction_pattern(const spline::KnotVector& knots) {
+  const int p = knots.degree();
+  const std::vector<int> spans = knots.element_spans();
+  DirectionPattern d;
+  d.functions = knots.num_basis();
+  // Function i lives on the elements whose span s has s - p <= i <= s: a run of consecutive elements
+  // first..last, and shares one with the functions spans[first] - p to spans[last].
+  std::size_t first = 0, last = 0;
+  for (int i = 0; i < knots.num_basis(); ++i) {
+    while (first < spans.size() && spans[first] < i) ++first;
+    while (last + 1 < spans.size() && spans[last + 1] - p <= i) ++last;
+    if (first < spans.size() && first <= last && spans[last] - p <= i) d.pairs += spans[last] - (spans[first] - p) + 1;
+  }
+  return d;
+}
+
+namespace {
+
+// The fill of a sparse Cholesky factor of a matrix from a two-dimensional mesh under nested dissection:
+// L's entries per matrix non-zero grow like log n, 0.25-0.27 log2(n / 100) for the bending membrane
+// at 47 k, 278 k and 1.1 M unknowns (CHOLMOD's order; docs/performance.md, "The memory estimate").
+double surface_fill(double dofs) { return std::max(1.0, 0.28 * std::log2(std::max(2.0, dofs / 100.0))); }
+
+}  // namespace
+
+ModelSize shell_size(const DirectionPattern& u, const DirectionPattern& v, double elements, double points) {
   ModelSize s;
-  s.dofs = 3.0 * control_points;
+  s.dofs = 3.0 * u.functions * v.functions;
   s.elements = elements;
-  s.points = elements * points * points;
-  s.nonzeros = s.dofs * 3.0 * (2 * p + 1) * (2 * q + 1);
-  // A two-dimensional mesh under nested dissection: fill grows like n log n (the bending example at
-  // 100 x 100 elements of degree 4, 274k DOFs: estimated 6.9 GiB for the shell, the whole run measured 5.9 GiB).
-  s.factor_nonzeros = s.nonzeros * std::max(1.0, 0.5 * std::log2(std::max(2.0, s.dofs / 100.0)));
+  s.points = elements * points;
+  s.nonzeros = 9.0 * u.pairs * v.pairs;
+  s.factor_nonzeros = s.nonzeros * surface_fill(s.dofs);
   return s;
 }
 
-ModelSize beam_size(double control_points, double elements, int p, int points) {
+ModelSize beam_size(const DirectionPattern& u, double elements, double points) {
   ModelSize s;
-  s.dofs = 4.0 * control_points;
+  s.dofs = 4.0 * u.functions;
   s.elements = elements;
   s.points = elements * points;
-  s.nonzeros = s.dofs * 4.0 * (2 * p + 1);
-  s.factor_nonzeros = 2.0 * s.nonzeros;  // banded: little fill
+  s.nonzeros = 16.0 * u.pairs;
+  s.factor_nonzeros = s.nonzeros;  // banded: L holds the band's half and little fill
   return s;
 }
 
 ModelSize model_size(const model::Model& m) {
   ModelSize total;
   for (const auto& s : m.shells)
-    total += shell_size(s.num_control_points(), static_cast<double>(s.elements.size()), s.surface.degree(0),
-                        s.surface.degree(1), std::max(s.gauss(0), s.gauss(1)));
+    total += shell_size(direction_pattern(s.surface.knots(0)), direction_pattern(s.surface.knots(1)),
+                        static_cast<double>(s.elements.size()), s.gauss(0) * s.gauss(1));
   for (const auto& b : m.beams)
-    total += beam_size(b.num_control_points(), static_cast<double>(b.elements.size()), b.curve.degree(), b.gauss());
+    total += beam_size(direction_pattern(b.curve.knots()), static_cast<double>(b.elements.size()), b.gauss());
   return total;
 }
 

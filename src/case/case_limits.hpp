@@ -9,6 +9,7 @@
 #include "io/yaml_input.hpp"
 #include "model/model.hpp"
 #include "linalg/linear_solver.hpp"
+#include "spline/knot_vector.hpp"
 
 namespace fibrane::casefile {
 
@@ -32,10 +33,11 @@ int read_degree(const io::YamlNode& node);
 // Gauss points per direction read at `node` for a body of polynomial degree `degree`.
 int read_gauss_points(const io::YamlNode& node, int degree);
 
-// A rough size of the discrete model: DOFs, elements, quadrature points and matrix non-zeros.
+// A size of the discrete model: DOFs, elements, quadrature points, matrix non-zeros and the factor's
+// entries, from which bytes() estimates the run's peak memory (docs/case-format.md, "Limits").
 struct ModelSize {
   double dofs = 0, elements = 0, points = 0, nonzeros = 0;
-  double factor_nonzeros = 0;  // of a sparse Cholesky factorisation (fill-in estimate)
+  double factor_nonzeros = 0;  // of a sparse Cholesky factorisation L (fill-in estimate)
   // The factorisation's memory relative to a double-precision Cholesky factor of factor_nonzeros entries,
   // and the work vectors per unknown of the solver's path (set_solver_path). The default, 0.5, is the
   // lightest path (a single-precision LDL^T): the checks while bodies are read refuse only what no path
@@ -43,14 +45,20 @@ struct ModelSize {
   double factor_scale = 0.5, vectors = 0;
   std::string path;  // the solver path, for messages (empty: not known yet)
   ModelSize& operator+=(const ModelSize& o);
-  double bytes() const;  // estimated peak memory of assembly and factorisation
+  double bytes() const;  // estimated peak memory of the run (a central estimate, not a bound)
 };
 
-// The share of an out-of-core factorisation's factor memory that stays in memory, relative to this
-// estimate's factor (whose fill the estimate puts 2.6-3.2 times above the measured factors of the bending
-// meshes): MUMPS's own in-core estimate for the 1.1 M full membrane's LU out of core (INFOG(27)) is 2.8 GB
-// against an estimated factor of 47 GB.
-constexpr double kOutOfCoreShare = 0.15;
+// The peak memory of a factorisation's phase (analysis, numeric factorisation, the solver's copy of the
+// matrix, fronts and stack) per byte of the Cholesky factor's values and indices, measured on the full
+// bending membrane's runs (docs/performance.md, "The memory estimate"): 1.75 and 1.6 with CHOLMOD at 278 k
+// and 1.1 M unknowns, 3.0 and 3.2 over whole runs where MUMPS's LDL^T takes turns at 278 k and 47 k (at
+// 1.1 M its factorisations peaked as CHOLMOD's).
+inline constexpr double kFactorPhase = 2.2;
+
+// The share of an out-of-core factorisation's factor memory that stays in memory (active fronts, the
+// stack and MUMPS's buffers), relative to this estimate's factor phase: measured 0.22 for the 1.1 M full
+// membrane's LU and 0.35 for its LDL^T (docs/performance.md, "The memory estimate").
+constexpr double kOutOfCoreShare = 0.3;
 
 // The linear solver path a case's settings take for a model whose tangent's skew part touches `skew_rows`
 // rows (0: symmetric; -1: any number; up to solve::kMaxSkewRows: "auto" factorises the symmetric part):
@@ -69,10 +77,19 @@ void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& setting
 inline constexpr double kMaxLowRankUnknowns = 1.5e5;
 void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& settings, const io::YamlNode& steps);
 
-// Size of a shell with `control_points` control points, `elements` elements of degrees (p, q) and
-// `points` quadrature points per element; of a beam likewise (degree p, 4 DOFs per control point).
-ModelSize shell_size(double control_points, double elements, int p, int q, int points);
-ModelSize beam_size(double control_points, double elements, int p, int points);
+// One parametric direction of a spline body: its basis functions, and the ordered pairs of them whose
+// supports share an element (a scalar field's matrix non-zeros in this direction; a tensor-product
+// surface's are the product of its two directions'). Counted from the knot vector's element spans: the
+// functions on the element of span s are s - p to s.
+struct DirectionPattern {
+  double functions = 0, pairs = 0;
+};
+DirectionPattern direction_pattern(const spline::KnotVector& knots);
+
+// Size of a shell whose directions have patterns `u` and `v`, with `elements` elements of `points`
+// quadrature points each (3 DOFs per control point); of a beam likewise (4 DOFs per control point).
+ModelSize shell_size(const DirectionPattern& u, const DirectionPattern& v, double elements, double points);
+ModelSize beam_size(const DirectionPattern& u, double elements, double points);
 // Size of the bodies already in the model.
 ModelSize model_size(const model::Model& m);
 

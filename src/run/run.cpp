@@ -11,6 +11,8 @@
 #include <memory>
 #include <optional>
 #include <sstream>
+
+#include <sys/resource.h>
 #include <stdexcept>
 
 #include "common/error.hpp"
@@ -312,6 +314,17 @@ io::JsonValue limit_points_json(const std::vector<LimitPoint>& found) {
   return points;
 }
 
+// The case's memory estimate and this process's peak resident memory so far (getrusage's ru_maxrss, in
+// KiB on Linux): a distributed run reports the process that writes the summary.
+io::JsonValue memory_json(const casefile::Case::MemoryEstimate& estimate) {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  io::JsonValue j = io::JsonValue::object();
+  j.set("estimated_bytes", std::round(estimate.bytes)).set("solver_path", estimate.path);
+  j.set("peak_bytes", 1024.0 * static_cast<double>(usage.ru_maxrss));
+  return j;
+}
+
 }  // namespace
 
 RunSummary run_case(casefile::Case& c, const RunOptions& options) {
@@ -369,6 +382,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   extra.set("checkpoints", run.checkpoint_json());
   if (summary.interrupted_by) extra.set("interrupted", signal_name(summary.interrupted_by));
   if (d) extra.set("partition", partition_json(c.model->partition()));
+  extra.set("memory", memory_json(c.memory_estimate));
   run.write_summary(summary, extra);
   return summary;
 }

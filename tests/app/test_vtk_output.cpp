@@ -4,6 +4,9 @@
 
 #include <fstream>
 #include <sstream>
+#include <string>
+
+#include <sys/resource.h>
 
 #include "cli_util.hpp"
 
@@ -27,7 +30,21 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string history = slurp(out / "history.csv");
   EXPECT_EQ(history.rfind("step,t,load_factor,iterations,residual,negative_eigenvalues,limit_point,strain_energy,tip_x,tip_z", 0), 0u) << history;
-  EXPECT_NE(slurp(out / "summary.json").find("\"completed\": true"), std::string::npos);
+  const std::string summary = slurp(out / "summary.json");
+  EXPECT_NE(summary.find("\"completed\": true"), std::string::npos);
+  // The memory section: the case's estimate on its solver path, and the run's peak resident memory, which
+  // getrusage bounds: RUSAGE_CHILDREN holds the largest peak of the processes this test waited for, the
+  // run's among them.
+  const auto number = [&](const std::string& key) {
+    const auto at = summary.find("\"" + key + "\": ");
+    return at == std::string::npos ? -1.0 : std::stod(summary.substr(at + key.size() + 4));
+  };
+  rusage children{};
+  getrusage(RUSAGE_CHILDREN, &children);
+  EXPECT_GT(number("peak_bytes"), 1e6);
+  EXPECT_LE(number("peak_bytes"), 1024.0 * children.ru_maxrss);
+  EXPECT_GT(number("estimated_bytes"), 1e6);
+  EXPECT_NE(summary.find("\"solver_path\": \"a symmetric factorisation\""), std::string::npos) << summary;
   const std::string script = std::string(FIBRANE_SOURCE_DIR) + "/tests/app/read_vtk.py";
   const auto read = run_cli_command("/usr/bin/python3 '" + script + "' '" + out.string() + "'");
   ASSERT_EQ(read.exit_code, 0) << read.output;
