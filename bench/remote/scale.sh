@@ -101,13 +101,15 @@ breakdown() {
 }
 # The machine's memory in use (MiB; total less available), every 2 s.
 sample() { while :; do awk '/MemTotal/{t=$2} /MemAvailable/{a=$2} END{print int((t-a)/1024)}' /proc/meminfo; sleep 2; done; }
-# The resident memory (MiB) of the processes whose command line holds TAG (a run's program with its
-# launchers, whose share is a few MiB), every second.
+# The resident memory (MiB) of the process PID and its descendants (the program under its launchers,
+# whose share is a few MiB), every second.
 rss_of() {
-  while :; do
-    local sum=0
-    for pid in $(pgrep -f -- "$1"); do sum=$((sum + $(awk '/VmRSS/{print $2}' /proc/"$pid"/status 2>/dev/null || echo 0))); done
-    echo "$EPOCHREALTIME $((sum / 1024))"
+  while kill -0 "$1" 2>/dev/null; do
+    echo "$EPOCHREALTIME $(ps -e -o pid=,ppid=,rss= | awk -v root="$1" '
+      {parent[$1] = $2; rss[$1] = $3}
+      END {for (p in parent) {q = p; while (q != root && q in parent && q != parent[q]) q = parent[q];
+                             if (q == root) sum += rss[p]}
+           print int(sum / 1024)}')"
     sleep 1
   done
 }
@@ -118,12 +120,13 @@ profile() {
   local dir=$work/$name; mkdir -p "$dir"
   [ "$limit" -gt "$(left)" ] && limit=$(left)
   local args=("${@//NAME_DIR/$dir}")
-  rss_of "$dir" > "$dir/rss" & local sampler=$!
   local t0=$SECONDS
   timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" time -v -o "$dir/time.0" "$command" "${args[@]}" \
-    > "$dir/stdout" 2> >(stamp > "$dir/stderr")
+    > "$dir/stdout" 2> >(stamp > "$dir/stderr") &
+  local pid=$!
+  rss_of "$pid" > "$dir/rss" &
+  wait "$pid"
   local rc=$?
-  kill $sampler 2>/dev/null
   say "$name: exit $rc after $((SECONDS - t0)) s; $(awk -F': ' '/Maximum resident/{printf "peak %.2f GiB", $2/1048576}' "$dir/time.0" 2>/dev/null)"
   grep -h -E '"(end_uz|start_uz|newton_iterations|wall_seconds|linear_solver_statistics)"' "$dir/out/summary.json" 2>/dev/null | tr -s ' ' | tee -a "$log"
   tail -n 3 "$dir/stdout" | tee -a "$log"

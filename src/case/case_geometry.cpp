@@ -76,8 +76,9 @@ std::vector<int> read_element_counts(const io::YamlNode& elements, int dims) {
 }
 
 // The pattern of a direction refined to `elements` elements of `degree` and `continuity`: that of a uniform
-// open knot vector (refining a direction that already has knots gives at most the new count plus the
-// existing elements, which the callers pass).
+// open knot vector. Refining a direction of E elements to a grid of n gives at most n + E - 1 elements
+// (the grid's and the existing interior knots), which the callers pass; an existing knot whose multiplicity
+// after degree elevation exceeds degree - continuity adds functions this count leaves out.
 DirectionPattern refined_pattern(int elements, int degree, int continuity) {
   return direction_pattern(spline::KnotVector::open_uniform(degree, elements, continuity));
 }
@@ -217,7 +218,7 @@ spline::NurbsSurface read_surface(const io::YamlNode& g, const std::optional<io:
   }();
   g.reject_unknown_keys();
   auto size = [&](int p, int c, const std::vector<int>& n) {
-    const int e0 = n[0] + surface.knots(0).num_elements(), e1 = n[1] + surface.knots(1).num_elements();
+    const int e0 = n[0] + surface.knots(0).num_elements() - 1, e1 = n[1] + surface.knots(1).num_elements() - 1;
     return shell_size(refined_pattern(e0, p, c), refined_pattern(e1, p, c), static_cast<double>(e0) * e1,
                       (p + 1) * (p + 1));
   };
@@ -271,7 +272,7 @@ spline::NurbsCurve read_curve(const io::YamlNode& g, const std::optional<io::Yam
   }();
   g.reject_unknown_keys();
   auto size = [&](int p, int c, const std::vector<int>& n) {
-    const int e = n[0] + curve.knots().num_elements();
+    const int e = n[0] + curve.knots().num_elements() - 1;
     return beam_size(refined_pattern(e, p, c), e, p + 1);
   };
   auto domain = [&](int) { return std::make_pair(curve.knots().front(), curve.knots().back()); };

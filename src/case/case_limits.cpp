@@ -106,8 +106,9 @@ DirectionPattern direction_pattern(const spline::KnotVector& knots) {
 namespace {
 
 // The fill of a sparse Cholesky factor of a matrix from a two-dimensional mesh under nested dissection:
-// L's entries per matrix non-zero grow like log n, 0.25-0.27 log2(n / 100) for the bending membrane
-// at 47 k, 278 k and 1.1 M unknowns (CHOLMOD's order; docs/performance.md, "The memory estimate").
+// L's entries per matrix non-zero grow like log n. CHOLMOD's factors of the bending membrane at 47 k,
+// 278 k and 1.1 M unknowns had 0.25-0.27 log2(n / 100) per assembled non-zero (docs/performance.md, "The
+// memory estimate"); 0.28 per non-zero of this count, which leaves out the interactions' coupling.
 double surface_fill(double dofs) { return std::max(1.0, 0.28 * std::log2(std::max(2.0, dofs / 100.0))); }
 
 }  // namespace
@@ -128,7 +129,9 @@ ModelSize beam_size(const DirectionPattern& u, double elements, double points) {
   s.elements = elements;
   s.points = elements * points;
   s.nonzeros = 16.0 * u.pairs;
-  s.factor_nonzeros = s.nonzeros;  // banded: L holds the band's half and little fill
+  // Banded: L fills the band's half, which for C1 and lower continuity is wider than the matrix's
+  // half-count; taken as the matrix's count.
+  s.factor_nonzeros = s.nonzeros;
   return s;
 }
 

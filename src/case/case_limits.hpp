@@ -33,16 +33,24 @@ int read_degree(const io::YamlNode& node);
 // Gauss points per direction read at `node` for a body of polynomial degree `degree`.
 int read_gauss_points(const io::YamlNode& node, int degree);
 
+// The share of an out-of-core factorisation's factor memory that stays in memory (active fronts, the
+// stack and MUMPS's buffers), relative to this estimate's factor phase: measured 0.22 for the 1.1 M full
+// membrane's LU and 0.35 for its LDL^T (docs/performance.md, "The memory estimate"); and the factor
+// scale of MUMPS's single-precision LDL^T out of core (1.1 x 0.5 x kOutOfCoreShare), the
+// lightest path a case can take.
+inline constexpr double kOutOfCoreShare = 0.3;
+inline constexpr double kLightestFactorScale = 1.1 * 0.5 * kOutOfCoreShare;
+
 // A size of the discrete model: DOFs, elements, quadrature points, matrix non-zeros and the factor's
 // entries, from which bytes() estimates the run's peak memory (docs/case-format.md, "Limits").
 struct ModelSize {
   double dofs = 0, elements = 0, points = 0, nonzeros = 0;
   double factor_nonzeros = 0;  // of a sparse Cholesky factorisation L (fill-in estimate)
   // The factorisation's memory relative to a double-precision Cholesky factor of factor_nonzeros entries,
-  // and the work vectors per unknown of the solver's path (set_solver_path). The default, 0.5, is the
-  // lightest path (a single-precision LDL^T): the checks while bodies are read refuse only what no path
-  // can hold; the check of the whole case takes the case's path.
-  double factor_scale = 0.5, vectors = 0;
+  // and the work vectors per unknown of the solver's path (set_solver_path). The default is the lightest
+  // path's (kLightestFactorScale): the checks while bodies are read refuse only what no path can hold;
+  // the check of the whole case takes the case's path.
+  double factor_scale = kLightestFactorScale, vectors = 0;
   std::string path;  // the solver path, for messages (empty: not known yet)
   ModelSize& operator+=(const ModelSize& o);
   double bytes() const;  // estimated peak memory of the run (a central estimate, not a bound)
@@ -54,11 +62,6 @@ struct ModelSize {
 // and 1.1 M unknowns, 3.0 and 3.2 over whole runs where MUMPS's LDL^T takes turns at 278 k and 47 k (at
 // 1.1 M its factorisations peaked as CHOLMOD's).
 inline constexpr double kFactorPhase = 2.2;
-
-// The share of an out-of-core factorisation's factor memory that stays in memory (active fronts, the
-// stack and MUMPS's buffers), relative to this estimate's factor phase: measured 0.22 for the 1.1 M full
-// membrane's LU and 0.35 for its LDL^T (docs/performance.md, "The memory estimate").
-constexpr double kOutOfCoreShare = 0.3;
 
 // The linear solver path a case's settings take for a model whose tangent's skew part touches `skew_rows`
 // rows (0: symmetric; -1: any number; up to solve::kMaxSkewRows: "auto" factorises the symmetric part):

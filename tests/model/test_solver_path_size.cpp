@@ -1,6 +1,6 @@
 // The memory estimate follows the solver path a case takes: an LU holds 2.2 times a Cholesky factor,
 // single precision halves it, out of core keeps kOutOfCoreShare of it in memory, Krylov solves add GMRES's
-// basis; the checks while bodies are read take the lightest path (0.5). The path is chosen before the
+// basis; the checks while bodies are read take the lightest path (single precision out of core). The path is chosen before the
 // model is finalised, so the model's symmetry must be known then.
 #include <gtest/gtest.h>
 
@@ -51,7 +51,7 @@ TEST(SolverPathSize, PatternCountsTheFunctionsThatShareAnElement) {
 TEST(SolverPathSize, EstimateFollowsThePath) {
   const DirectionPattern u = direction_pattern(spline::KnotVector::open_uniform(4, 100, 3));
   ModelSize base = shell_size(u, u, 100.0 * 100.0, 25);
-  EXPECT_DOUBLE_EQ(base.factor_scale, 0.5);
+  EXPECT_DOUBLE_EQ(base.factor_scale, kLightestFactorScale);
   EXPECT_EQ(base.dofs, 3.0 * 104 * 104);  // 100 + 4 quartic C3 functions per direction
   // skew_rows: 0 symmetric, -1 any number (an LU).
   const auto factor_bytes = [&](const solve::LinearSolverSettings& s, int skew_rows) {
@@ -110,6 +110,9 @@ TEST(SolverPathSize, EstimateTracksTheMeasuredPeaks) {
                 mesh.n, mesh.n, size.dofs, size.nonzeros, size.factor_nonzeros, gib, mesh.peak_gib);
     EXPECT_GT(gib, 0.75 * mesh.peak_gib);
     EXPECT_LT(gib, 1.4 * mesh.peak_gib);
+    if (mesh.n == 200) {
+      EXPECT_LT(gib, 23.5);  // the 24 GiB development machine (MemTotal 23.5 GiB) runs it
+    }
   }
 }
 
