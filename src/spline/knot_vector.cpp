@@ -40,13 +40,14 @@ KnotVector::KnotVector(int degree, std::vector<double> knots) : degree_(degree),
     while (end < knots_.size() && knots_[end] - knots_[start] <= tol) ++end;
     const std::size_t mult = end - start;
     const bool first = start == 0, last = end == knots_.size();
-    std::ostringstream msg;
     if ((first || last) && mult != order) {
+      std::ostringstream msg;
       msg << "not an open knot vector: the " << (first ? "first" : "last") << " knot (" << knots_[start]
           << ") appears " << mult << " times, degree " << degree_ << " requires exactly " << order;
       fail(msg.str());
     }
     if (!first && !last && mult > static_cast<std::size_t>(degree_)) {
+      std::ostringstream msg;
       msg << "interior knot " << knots_[start] << " (index " << start << ") has multiplicity " << mult
           << " > degree " << degree_;
       fail(msg.str());
