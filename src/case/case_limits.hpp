@@ -34,11 +34,11 @@ int read_degree(const io::YamlNode& node);
 int read_gauss_points(const io::YamlNode& node, int degree);
 
 // The share of an out-of-core factorisation's factor memory that stays in memory (active fronts, the
-// stack and MUMPS's buffers), relative to this estimate's factor phase: measured 0.22 for the 1.1 M full
-// membrane's LU and 0.35 for its LDL^T (docs/performance.md, "The memory estimate"); and the factor
+// stack and MUMPS's buffers), relative to this estimate's factor phase: measured 0.16 for the 1.1 M full
+// membrane's LU and 0.25 for its LDL^T (docs/performance.md, "The memory estimate"); and the factor
 // scale of MUMPS's single-precision LDL^T out of core (1.1 x 0.5 x kOutOfCoreShare), the
 // lightest path a case can take.
-inline constexpr double kOutOfCoreShare = 0.3;
+inline constexpr double kOutOfCoreShare = 0.25;
 inline constexpr double kLightestFactorScale = 1.1 * 0.5 * kOutOfCoreShare;
 
 // A size of the discrete model: DOFs, elements, quadrature points, matrix non-zeros and the factor's
@@ -58,10 +58,10 @@ struct ModelSize {
 
 // The peak memory of a factorisation's phase (analysis, numeric factorisation, the solver's copy of the
 // matrix, fronts and stack) per byte of the Cholesky factor's values and indices, measured on the full
-// bending membrane's runs (docs/performance.md, "The memory estimate"): 1.75 and 1.6 with CHOLMOD at 278 k
-// and 1.1 M unknowns, 3.0 and 3.2 over whole runs where MUMPS's LDL^T takes turns at 278 k and 47 k (at
-// 1.1 M its factorisations peaked as CHOLMOD's).
-inline constexpr double kFactorPhase = 2.2;
+// bending membrane's runs (docs/performance.md, "The memory estimate"): 1.75 and 1.6 with CHOLMOD alone
+// at 278 k and 1.1 M unknowns; 3.0 and 3.2 over whole runs where MUMPS's LDL^T takes turns with it at
+// 278 k and 47 k; above 2.5 at 1.1 M, whose run in memory was ended by the system at 24.4 GB.
+inline constexpr double kFactorPhase = 3.0;
 
 // The linear solver path a case's settings take for a model whose tangent's skew part touches `skew_rows`
 // rows (0: symmetric; -1: any number; up to solve::kMaxSkewRows: "auto" factorises the symmetric part):

@@ -75,6 +75,12 @@ class AutoSolver final : public LinearSolver {
     return ok;
   }
   void begin_step() override { step_starts_ = true; }
+  // Both factors go; LL^T's analysis stays.
+  void release_factor() override {
+    fallback_.reset();
+    if (llt_) llt_->release_factor();
+    current_ = llt_.get();
+  }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return current_->solve(b); }
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override { return current_->solve_columns(b); }
   std::string name() const override { return "auto(" + (current_ ? current_->name() : "none") + ")"; }
@@ -157,6 +163,15 @@ class SymmetryProbingSolver final : public LinearSolver {
     return (path_ == Path::symmetric ? "symmetric-" : "") + inner;
   }
   long factor_nonzeros() const override { return current_ ? current_->factor_nonzeros() : 0; }
+  // The chain's factor goes; the LU, analysis and all, unless it is the current solver (which names the
+  // path until the next factorisation).
+  void release_factor() override {
+    if (lu_ && current_ != lu_.get()) lu_.reset();
+    if (symmetric_chain_) symmetric_chain_->release_factor();
+  }
+  long held_factor_entries() const override {
+    return (symmetric_chain_ ? symmetric_chain_->held_factor_entries() : 0) + (lu_ ? lu_->held_factor_entries() : 0);
+  }
   std::string analysis_summary() const override { return current_ ? current_->analysis_summary() : ""; }
   // The symmetric part's inertia is not the matrix's.
   int negative_eigenvalues() const override {
@@ -177,15 +192,19 @@ class SymmetryProbingSolver final : public LinearSolver {
     return !support_.empty() && support_.size() <= static_cast<size_t>(kMaxSkewRows) ? Path::skew : Path::lu;
   }
   // Makes `path` current, analysing its solver if it is another one than before or `analyse` is set. The
-  // symmetric chain (with its ordering) serves the symmetric and skew paths, and is kept while the LU is
-  // in use.
+  // symmetric chain (with its ordering) serves the symmetric and skew paths. One factor at a time: the
+  // chain's factor is freed (its analysis kept) while the LU is in use, and the LU goes, analysis and all,
+  // when the chain takes over again.
   void pick(const SpMat& a, Path path, bool analyse) {
-    LinearSolver* before = current_;
+    const bool was_lu = current_ && current_ == lu_.get();
+    const bool switched = !current_ || was_lu != (path == Path::lu);
     path_ = path;
     if (path != Path::lu) {
+      lu_.reset();
       if (!symmetric_chain_) symmetric_chain_ = make_symmetric_();
       current_ = symmetric_chain_.get();
     } else {
+      if (symmetric_chain_ && !was_lu) symmetric_chain_->release_factor();
       if (!lu_) lu_ = make_lu_();
       current_ = lu_.get();
     }
@@ -193,7 +212,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       s_ = SpMat();
       correction_.clear();
     }
-    if (analyse || current_ != before) current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
+    if (analyse || switched) current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
   }
 
   Factory make_symmetric_, make_lu_;

@@ -43,9 +43,10 @@ bool NonlinearSystem::tangent_finite() const {
   return Eigen::Map<const Eigen::VectorXd>(k.valuePtr(), k.nonZeros()).allFinite();
 }
 
-NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
-                          LinearSolver& solver) {
-  if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
+namespace {
+
+NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
+                            LinearSolver& solver) {
   NewtonReport rep;
   double scale = 0.0, previous_norm = 0.0, floor_estimate = 0.0;
   bool small_update = false;
@@ -183,6 +184,18 @@ NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, co
     const double tolerance = std::max(opt.tol_relative * scale, opt.tol_absolute);
     expect_converged = it > 0 && fresh && norm * contraction * contraction <= tolerance;
   }
+}
+
+}  // namespace
+
+NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
+                          LinearSolver& solver) {
+  if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
+  NewtonReport rep = newton_iterate(sys, q, t, opt, solver);
+  // A failed solve's factor is of no use (every caller factorises before it solves) and would be held
+  // through the cut-back's first evaluation and factorisation, beside the memory they take.
+  if (!rep.converged) solver.release_factor();
+  return rep;
 }
 
 }  // namespace fibrane::solve

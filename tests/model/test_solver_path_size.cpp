@@ -92,28 +92,35 @@ TEST(SolverPathSize, EstimateFollowsThePath) {
 // The estimate against the whole runs' peak memory (maximum resident set) of the full bending membrane
 // (examples/bending-full.yaml and bench/cases/bending-full-{278k,1m}.yaml: quartic C1 shell of N x N
 // elements, fiber of 4N; "auto" with a low-rank skew correction), measured with 2 threads
-// (docs/performance.md, "The memory estimate"). A central estimate: within -25 % and +40 % of each, and
-// below this machine's 23.5 GiB at 1.1 M unknowns, where the run fits.
+// (docs/performance.md, "The memory estimate"): within -25 % and +40 % at 47 k and 278 k unknowns. At
+// 1.1 M the run in memory was ended by the system's out-of-memory killer at 22.7 GiB on the 23.5 GiB
+// development machine: the estimate must refuse it there, and let it through out of core (11.5 GiB).
 TEST(SolverPathSize, EstimateTracksTheMeasuredPeaks) {
-  struct Mesh {
+  const auto estimate = [](int n, const solve::LinearSolverSettings& settings) {
+    const DirectionPattern u = direction_pattern(spline::KnotVector::open_uniform(4, n, 1));
+    const DirectionPattern fiber = direction_pattern(spline::KnotVector::open_uniform(4, 4 * n, 1));
+    ModelSize size = shell_size(u, u, n * n, 25);
+    size += beam_size(fiber, 4 * n, 5);
+    set_solver_path(size, settings, 13);
+    const double gib = size.bytes() / (1ull << 30);
+    std::printf("    %d x %d, %s: %.3g unknowns, %.3g non-zeros, %.3g factor entries, %.2f GiB estimated\n", n,
+                n, size.path.c_str(), size.dofs, size.nonzeros, size.factor_nonzeros, gib);
+    return gib;
+  };
+  const solve::LinearSolverSettings in_memory;
+  solve::LinearSolverSettings on_disk;
+  on_disk.out_of_core_directory = "/tmp";
+  struct Run {
     int n;
+    const solve::LinearSolverSettings& settings;
     double peak_gib;
   };
-  for (const Mesh mesh : {Mesh{40, 1.10}, Mesh{100, 5.88}, Mesh{200, 17.0}}) {
-    const DirectionPattern u = direction_pattern(spline::KnotVector::open_uniform(4, mesh.n, 1));
-    const DirectionPattern fiber = direction_pattern(spline::KnotVector::open_uniform(4, 4 * mesh.n, 1));
-    ModelSize size = shell_size(u, u, mesh.n * mesh.n, 25);
-    size += beam_size(fiber, 4 * mesh.n, 5);
-    set_solver_path(size, solve::LinearSolverSettings{}, 13);
-    const double gib = size.bytes() / (1ull << 30);
-    std::printf("    %d x %d: %.3g unknowns, %.3g non-zeros, %.3g factor entries, %.2f GiB estimated, %.2f measured\n",
-                mesh.n, mesh.n, size.dofs, size.nonzeros, size.factor_nonzeros, gib, mesh.peak_gib);
-    EXPECT_GT(gib, 0.75 * mesh.peak_gib);
-    EXPECT_LT(gib, 1.4 * mesh.peak_gib);
-    if (mesh.n == 200) {
-      EXPECT_LT(gib, 23.5);  // the 24 GiB development machine (MemTotal 23.5 GiB) runs it
-    }
+  for (const Run& run : {Run{40, in_memory, 1.10}, Run{100, in_memory, 5.88}, Run{200, on_disk, 11.50}}) {
+    const double gib = estimate(run.n, run.settings);
+    EXPECT_GT(gib, 0.75 * run.peak_gib);
+    EXPECT_LT(gib, 1.4 * run.peak_gib);
   }
+  EXPECT_GT(estimate(200, in_memory), 23.5);
 }
 
 TEST(SolverPathSize, ModelKnowsItsSymmetryBeforeItIsFinalised) {

@@ -214,6 +214,23 @@ TEST(Newton, ReportsFailuresInsteadOfReturningGarbage) {
   EXPECT_NE(bad.failure.find("non-finite"), std::string::npos) << bad.failure;
 }
 
+// A failed solve frees the solver's factor (every caller factorises before it solves again), so that a
+// cut-back step does not evaluate and factorise beside it; a converged solve keeps it.
+TEST(Newton, AFailedSolveFreesItsFactor) {
+  auto solver = make_linear_solver("auto", true);
+  SpringNetwork possible = make_chain(3, 0.5);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(possible.size());
+  ASSERT_TRUE(newton_solve(possible, q, 1.0, NewtonOptions{}, *solver).converged);
+  EXPECT_GT(solver->held_factor_entries(), 0);
+  SpringNetwork impossible = make_chain(3, 1.2);  // above the weakest bar's force limit
+  q.setZero();
+  ASSERT_FALSE(newton_solve(impossible, q, 1.0, NewtonOptions{}, *solver).converged);
+  EXPECT_EQ(solver->held_factor_entries(), 0);
+  q.setZero();
+  ASSERT_TRUE(newton_solve(possible, q, 1.0, NewtonOptions{}, *solver).converged);  // factorises again
+  EXPECT_NEAR(possible.displacements()[6], chain_tip_displacement(3, 0.5), 1e-11);
+}
+
 // A linear system r = K q - f plus a residual "floor": noise of size 1e-6 that grows by 1 % at every
 // evaluation, as summation round-off wanders when it dominates. The tolerances (1e-12) lie below the floor,
 // so only the round-off-floor test can end the iteration. With the floor rising at every evaluation, a rule

@@ -110,6 +110,37 @@ TEST(SkewCorrection, SkewOnManyRowsTakesTheLu) {
   EXPECT_LT((a * solver->solve(b) - b).norm() / b.norm(), 1e-12);
 }
 
+// One factor at a time on the skew path too: while the LU serves, the symmetric chain's factor is freed
+// (its analysis kept); when the chain serves again, the LU is gone. A held factor beside the other is what
+// pushed the 1.1 M membrane beyond 24 GiB (docs/performance.md, "The memory estimate").
+TEST(SkewCorrection, SwitchingToTheLuAndBackHoldsOneFactor) {
+  std::vector<int> wide_rows;
+  for (int i = 0; i < 30; ++i) wide_rows.push_back(40 * i + 3);  // 60 skew rows: the LU
+  const SpMat narrow = with_skew_rows(40, {100, 700}, 1), wide = with_skew_rows(40, wide_rows, 3);
+  ASSERT_EQ(narrow.nonZeros(), wide.nonZeros());  // the same pattern: no new analysis between them
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(narrow.rows(), -1.0, 1.0);
+  auto solver = make_linear_solver("auto", false);
+  solver->analyze(narrow);
+  ASSERT_TRUE(solver->factorize(narrow)) << solver->failure_detail();
+  EXPECT_EQ(solver->name(), "symmetric-part(auto(cholmod))+rank-4");
+  const long chain_entries = solver->held_factor_entries();
+  ASSERT_GT(chain_entries, 0);
+  for (int round = 0; round < 2; ++round) {
+    ASSERT_TRUE(solver->factorize(wide)) << solver->failure_detail();
+    EXPECT_EQ(solver->name(), mumps_available() ? "mumps-lu" : "umfpack64");
+    EXPECT_EQ(solver->held_factor_entries(), solver->factor_nonzeros());  // the LU's alone
+    EXPECT_LT((wide * solver->solve(b) - b).norm() / b.norm(), 1e-12);
+    ASSERT_TRUE(solver->factorize(narrow)) << solver->failure_detail();
+    EXPECT_EQ(solver->name(), "symmetric-part(auto(cholmod))+rank-4");
+    EXPECT_EQ(solver->held_factor_entries(), chain_entries);  // the chain's alone
+    EXPECT_LT((narrow * solver->solve(b) - b).norm() / b.norm(), 1e-12);
+  }
+  solver->release_factor();
+  EXPECT_EQ(solver->held_factor_entries(), 0);
+  ASSERT_TRUE(solver->factorize(narrow));
+  EXPECT_LT((narrow * solver->solve(b) - b).norm() / b.norm(), 1e-12);
+}
+
 // Newton marks a step's first matrix before the first analysis; the skew path passes the mark on to the
 // symmetric chain with that matrix, so its step rule (LinearSolver.AutoStartsAStep...) holds from the first
 // step on: after a first step that started indefinite, the second step's first matrix goes to the LDL^T.
