@@ -4,9 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
+#include "common/system_memory.hpp"
 #include "shell/kl_shell.hpp"
 
 namespace fibrane::casefile {
@@ -145,25 +144,13 @@ ModelSize model_size(const model::Model& m) {
   return total;
 }
 
-std::uint64_t machine_memory() {
-  std::ifstream in("/proc/meminfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string key;
-    std::uint64_t kib = 0;
-    if (words >> key >> kib && key == "MemTotal:") return kib * 1024;
-  }
-  return 0;
-}
-
 void check_fits(const ModelSize& size, const io::YamlNode& node) {
-  const std::uint64_t memory = machine_memory();
+  const std::uint64_t memory = memory_limit();
   const double available = memory > 0 ? static_cast<double>(memory) : 64.0 * (1ull << 30);
   if (size.bytes() <= available) return;
   node.fail_message(fmt::format(
       "the model would be too large: about {:.3g} DOFs, {:.3g} elements, {:.3g} matrix non-zeros, estimated "
-      "{:.3g} GiB of memory{}, more than this machine's {:.3g} GiB{}: use fewer elements or a lower degree{}",
+      "{:.3g} GiB of memory{}, more than the {:.3g} GiB this machine (or its control group) has{}: use fewer elements or a lower degree{}",
       size.dofs, size.elements, size.nonzeros, size.bytes() / (1ull << 30),
       size.path.empty() ? "" : " (" + size.path + ")", available / (1ull << 30),
       memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)",

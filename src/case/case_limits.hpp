@@ -96,10 +96,8 @@ ModelSize beam_size(const DirectionPattern& u, double elements, double points);
 // Size of the bodies already in the model.
 ModelSize model_size(const model::Model& m);
 
-// The machine's memory (MemTotal of /proc/meminfo) in bytes; 0 when it cannot be read.
-std::uint64_t machine_memory();
-
-// InputError at `node` when `size` does not fit into the machine's memory, naming the estimate.
+// InputError at `node` when `size` does not fit into the machine's memory (memory_limit(), which a
+// control group's limit bounds), naming the estimate.
 void check_fits(const ModelSize& size, const io::YamlNode& node);
 
 }  // namespace fibrane::casefile

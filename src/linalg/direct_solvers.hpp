@@ -15,14 +15,24 @@ namespace fibrane::solve {
 // (malloc_trim), before the new factor is made, instead of adding to the peak.
 void hand_back_freed_memory();
 
+// The memory one factorisation may take. kAvailableMemory: what the process can still allocate when the
+// factorisation starts (available_memory()), less a share and a reserve for the rest of the step; 0: no
+// limit; a positive value: that many MB. A factorisation that would need more fails, with a
+// failure_detail() that says so, instead of growing until the system ends the process.
+constexpr long kAvailableMemory = -1;
+// The limit in bytes for `megabytes` as above; 0 when there is none (also when the memory is unknown).
+double factorization_memory_limit(long megabytes);
+
 // CHOLMOD supernodal LL^T of the lower triangle (symmetric positive definite). Name "cholmod";
 // negative_eigenvalues() is 0 after a successful factorisation (a Cholesky factor exists only for a
-// positive definite matrix; CHOLMOD stops at the first non-positive pivot).
-std::unique_ptr<LinearSolver> make_cholmod_llt();
+// positive definite matrix; CHOLMOD stops at the first non-positive pivot). A factorisation whose factor
+// would exceed `memory_limit_megabytes` (factorization_memory_limit) is not begun.
+std::unique_ptr<LinearSolver> make_cholmod_llt(long memory_limit_megabytes = kAvailableMemory);
 
 // CHOLMOD simplicial LDL^T of the lower triangle, without pivoting (symmetric, indefinite allowed while
-// no pivot is zero). Name "ldlt"; negative_eigenvalues() counts the negative entries of D.
-std::unique_ptr<LinearSolver> make_cholmod_ldlt();
+// no pivot is zero). Name "ldlt"; negative_eigenvalues() counts the negative entries of D. The memory
+// limit as for make_cholmod_llt.
+std::unique_ptr<LinearSolver> make_cholmod_ldlt(long memory_limit_megabytes = kAvailableMemory);
 
 // The pivot order of the last analysis of a solver from make_cholmod_llt() or make_cholmod_ldlt()
 // (order[k] = the row and column of the matrix that is the k-th pivot: the fill-reducing ordering and
@@ -66,6 +76,9 @@ struct MumpsOptions {
   // The files (named fibrane-<process id>-*) are deleted with the factor (a new analysis, or the solver's
   // end). The solution is the in-core factorisation's to round-off (exact() is unchanged).
   std::string out_of_core_directory;
+  // ICNTL(23), the most memory one factorisation may take (factorization_memory_limit). A factorisation
+  // that would need more stops with INFOG(1) = -19, or -9 when delayed pivots outgrow it.
+  long memory_limit_megabytes = kAvailableMemory;
 };
 
 // True when fibrane was built with MUMPS (FIBRANE_MUMPS, the default).

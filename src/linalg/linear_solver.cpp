@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "common/error.hpp"
+#include "common/system_memory.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/krylov_reuse.hpp"
 #include "linalg/skew_correction.hpp"
@@ -19,6 +20,16 @@
 namespace fibrane::solve {
 
 void hand_back_freed_memory() { malloc_trim(0); }
+
+double factorization_memory_limit(long megabytes) {
+  constexpr double kMegabyte = 1 << 20;
+  if (megabytes != kAvailableMemory) return std::max(megabytes, 0L) * kMegabyte;
+  // Of the available memory, the share a factorisation may take and what is kept for the rest of the
+  // step (the solves' vectors, the next evaluation's assembly).
+  constexpr double kUsableShare = 0.95, kReserve = 256 * kMegabyte;
+  const double available = static_cast<double>(available_memory());
+  return available > 0 ? std::max(available * kUsableShare - kReserve, kMegabyte) : 0.0;
+}
 
 namespace {
 
@@ -67,6 +78,8 @@ class AutoSolver final : public LinearSolver {
         if (first_of_step) step_start_indefinite_ = false;
         return true;
       }
+      // Refused for memory (the only failure CHOLMOD explains): the fallback's factor is no smaller.
+      if (!llt_->failure_detail().empty()) return false;
     }
     llt_->release_factor();
     const bool ok = factorize_fallback(a);

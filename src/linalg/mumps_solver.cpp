@@ -5,6 +5,9 @@
 // bounds them.
 #include <unistd.h>
 
+#include <algorithm>
+#include <climits>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
@@ -53,8 +56,14 @@ constexpr int kUseCommWorld = -987654;  // MUMPS's communicator value for the se
 // - ICNTL(14): MUMPS sizes its work space from the analysis plus this percentage (20 by default);
 //   pivoting can delay more pivots than foreseen (INFOG(1) = -8 / -9), and the factorisation is then
 //   repeated with the percentage doubled, up to three times.
-// - ICNTL(10) = 0: no iterative refinement inside MUMPS; a single-precision or low-rank factor is refined
-//   in double precision by the caller (KrylovReuseSolver).
+// - ICNTL(23): the memory limit (MumpsOptions::memory_limit_megabytes). Where the analysis's estimate of
+//   the factorisation's memory (for the relaxation of the attempt), with a tenth more, fits the limit,
+//   ICNTL(23) stays 0 and MUMPS sizes its work space from the estimate. Otherwise ICNTL(23) is the limit:
+//   MUMPS shares it between the factor, the stack and the arrays that extend them, and stops with
+//   INFOG(1) = -19 (below the analysis's lower bound) or -9 (delayed pivots) where it needs more; a -9
+//   under the limit is not repeated, since more relaxation only takes memory from the factor's share.
+//   (Set when memory is plentiful, it costs: MUMPS then spreads over the larger work space instead of
+//   compacting it; docs/performance.md, "The memory estimate".)
 template <class Arithmetic>
 class MumpsSolver final : public LinearSolver {
   using Real = typename Arithmetic::Real;
@@ -81,16 +90,7 @@ class MumpsSolver final : public LinearSolver {
   // INFOG(12) counts negative pivots of an LDL^T; an LU gives no inertia.
   int negative_eigenvalues() const override { return factored_ && !options_.unsymmetric ? infog(12) : -1; }
   bool exact() const override { return !options_.low_rank && sizeof(Real) == sizeof(double); }
-  std::string failure_detail() const override {
-    if (last_status_ >= 0) return {};
-    // The statuses a run meets (MUMPS 5.5 user guide, section 8); INFOG(2) < 0 counts millions.
-    const char* meaning = last_status_ == -10 ? ": numerically singular matrix"
-                          : last_status_ == -13 ? ": out of memory (an allocation of INFOG(2) entries failed)"
-                          : last_status_ == -9 || last_status_ == -8 ? ": work space too small"
-                          : last_status_ == -90 ? ": out-of-core file error (is the directory's disk full?)"
-                                                                      : "";
-    return "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " + std::to_string(last_status2_) + meaning;
-  }
+  std::string failure_detail() const override;
 
  private:
   // A new MUMPS instance (JOB = -1) with fibrane's settings.
@@ -127,12 +127,28 @@ class MumpsSolver final : public LinearSolver {
     std::snprintf(id_.ooc_prefix, sizeof(id_.ooc_prefix), "%s", prefix.c_str());
     icntl(22) = 1;
   }
+  // ICNTL(23) for the next attempt, in MB (0: MUMPS's own sizing), from the limit and the analysis's
+  // estimate scaled to the attempt's relaxation ICNTL(14) (the analysis used `relaxation`).
+  int memory_limit(int relaxation) const {
+    const double limit = factorization_memory_limit(options_.memory_limit_megabytes) / (1 << 20);
+    const double estimate = estimated_megabytes() * (100.0 + icntl(14)) / (100.0 + relaxation);
+    if (limit <= 0 || 1.1 * estimate <= limit) return 0;
+    return static_cast<int>(std::min(std::ceil(limit), double{INT_MAX}));
+  }
+  // The analysis's estimate of the factorisation's memory in MB: INFOG(17) in core, INFOG(27) out of core,
+  // INFOG(36) and INFOG(38) for low-rank (sums over processes; one process here).
+  int estimated_megabytes() const {
+    const bool ooc = !options_.out_of_core_directory.empty();
+    return options_.low_rank ? (ooc ? infog(38) : infog(36)) : (ooc ? infog(27) : infog(17));
+  }
+  int icntl(int i) const { return id_.icntl[i - 1]; }
   // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
   int& icntl(int i) { return id_.icntl[i - 1]; }
   int infog(int i) const { return id_.infog[i - 1]; }
   void record_status() {
     last_status_ = infog(1);
     last_status2_ = infog(2);
+    last_limit_ = icntl(23);
   }
 
   MumpsOptions options_;
@@ -145,7 +161,7 @@ class MumpsSolver final : public LinearSolver {
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
   mutable typename Arithmetic::Struct id_{};
   bool analyzed_ = false, factored_ = false;
-  int analyses_ = 0, last_status_ = 0, last_status2_ = 0;
+  int analyses_ = 0, last_status_ = 0, last_status2_ = 0, last_limit_ = 0;
 };
 
 template <class Arithmetic>
@@ -206,10 +222,11 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
   id_.a = values_.data();
   const int relaxation = icntl(14);
   for (int attempt = 0; attempt < 4; ++attempt) {
+    icntl(23) = memory_limit(relaxation);
     id_.job = 2;
     Arithmetic::call(&id_);
     const int status = infog(1);
-    if (status != -8 && status != -9) break;
+    if (status != -8 && (status != -9 || icntl(23) > 0)) break;
     icntl(14) *= 2;
   }
   icntl(14) = relaxation;
@@ -233,6 +250,22 @@ Eigen::MatrixXd MumpsSolver<Arithmetic>::solve_columns(const Eigen::MatrixXd& b)
   return x.template cast<double>();
 }
 
+// The statuses a run meets (MUMPS 5.5 user guide, section 8); INFOG(2) < 0 counts millions.
+template <class Arithmetic>
+std::string MumpsSolver<Arithmetic>::failure_detail() const {
+  if (last_status_ >= 0) return {};
+  const std::string limit = std::to_string(last_limit_) + " MB";
+  const std::string meaning =
+      last_status_ == -10   ? ": numerically singular matrix"
+      : last_status_ == -13 ? ": out of memory (an allocation of INFOG(2) entries failed)"
+      : last_status_ == -19 ? ": it needs more memory than its limit of " + limit
+      : last_status_ == -9 && last_limit_ > 0 ? ": delayed pivots need more memory than the limit of " + limit
+      : last_status_ == -9 || last_status_ == -8 ? ": work space too small"
+      : last_status_ == -90 ? ": out-of-core file error (is the directory's disk full?)"
+                            : "";
+  return "MUMPS INFOG(1) = " + std::to_string(last_status_) + ", INFOG(2) = " + std::to_string(last_status2_) + meaning;
+}
+
 // INFOG(29): entries in the factors after a factorisation (negative: millions); before, the analysis's
 // estimate INFOG(20) (same convention).
 template <class Arithmetic>
@@ -242,8 +275,7 @@ long MumpsSolver<Arithmetic>::factor_nonzeros() const {
 }
 
 // "<analyses> with <ordering INFOG(7)>, <MB> MB": the memory is what the last factorisation used
-// (INFOG(22)), or the analysis's estimate before one: INFOG(17) in core, INFOG(27) out of core, INFOG(36)
-// and INFOG(38) for low-rank.
+// (INFOG(22)), or the analysis's estimate before one.
 template <class Arithmetic>
 std::string MumpsSolver<Arithmetic>::analysis_summary() const {
   if (!analyzed_) return {};
@@ -251,8 +283,7 @@ std::string MumpsSolver<Arithmetic>::analysis_summary() const {
   const int ordering = infog(7);
   const std::string method = ordering >= 0 && ordering <= 6 ? names[ordering] : "ordering " + std::to_string(ordering);
   const bool ooc = !options_.out_of_core_directory.empty();
-  const int estimate = options_.low_rank ? (ooc ? infog(38) : infog(36)) : (ooc ? infog(27) : infog(17));
-  const int megabytes = factored_ ? infog(22) : estimate;
+  const int megabytes = factored_ ? infog(22) : estimated_megabytes();
   return std::to_string(analyses_) + " with " + method + ", " + std::to_string(megabytes) + " MB" +
          (options_.low_rank ? ", block low-rank" : "") + (ooc ? ", factor on disk" : "");
 }

@@ -2,6 +2,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/UmfPackSupport>
 
+#include <cmath>
 #include <string>
 
 #include "linalg/direct_solvers.hpp"
@@ -41,7 +42,7 @@ int negative_pivots(const cholmod_factor& f) {
 template <class Factorization>
 class CholmodSolver final : public LinearSolver {
  public:
-  explicit CholmodSolver(std::string name) : name_(std::move(name)) {
+  CholmodSolver(std::string name, long memory_limit_megabytes) : name_(std::move(name)), memory_limit_(memory_limit_megabytes) {
     fact_.cholmod().print = 0;  // failures are reported through factorize()'s return value
   }
   void analyze(const SpMat& a) override {
@@ -57,12 +58,16 @@ class CholmodSolver final : public LinearSolver {
     negative_ = -1;
   }
   bool factorize(const SpMat& a) override {
+    negative_ = -1;
+    refusal_ = memory_refusal();
+    if (!refusal_.empty()) return false;
     const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
     fact_.factorize(a);
     const bool ok = fact_.info() == Eigen::Success;
     negative_ = ok ? negative_pivots(*fact_.factor()) : -1;
     return ok;
   }
+  std::string failure_detail() const override { return refusal_; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
     const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
     return fact_.solve(b);
@@ -91,6 +96,20 @@ class CholmodSolver final : public LinearSolver {
     if (!f || f->xtype == CHOLMOD_PATTERN) return 0;
     return static_cast<long>(f->is_super ? f->xsize : f->nzmax);
   }
+  // Why the next numeric factorisation is not begun: its factor would exceed the memory limit
+  // (factorization_memory_limit); empty when it fits or the memory is unknown. A factor that holds values
+  // reuses them; a symbolic one gets its values (xsize entries for a supernodal factor, with the largest
+  // update matrix, maxcsize; lnz and their row indices for a simplicial one).
+  std::string memory_refusal() const {
+    const cholmod_factor* f = fact_.factor();
+    if (!f || f->xtype != CHOLMOD_PATTERN) return {};
+    const double entries = f->is_super ? static_cast<double>(f->xsize + f->maxcsize) : 1.5 * fact_.cholmod().lnz;
+    const double needed = entries * sizeof(double), limit = factorization_memory_limit(memory_limit_);
+    if (limit <= 0 || needed <= limit) return {};
+    constexpr double kMegabyte = 1 << 20;
+    return "CHOLMOD's factor would need " + std::to_string(std::lround(needed / kMegabyte)) +
+           " MB, more than the limit of " + std::to_string(std::lround(limit / kMegabyte)) + " MB";
+  }
   // cholmod_factor::Perm: Perm[k] is the k-th pivot.
   std::vector<int> pivot_order() const {
     const cholmod_factor* f = fact_.factor();
@@ -105,6 +124,8 @@ class CholmodSolver final : public LinearSolver {
   int chosen_ = -1;  // the ordering method of the first analysis (CHOLMOD_AMD, CHOLMOD_METIS, ...)
   int analyses_ = 0;
   int negative_ = -1;  // of the last factorisation; -1 when it failed or none was made
+  long memory_limit_;    // MB, as make_cholmod_llt takes it
+  std::string refusal_;  // why the last factorisation was not begun; empty when it was
 };
 
 // What an UMFPACK status code means (UMFPACK user guide, "Error codes"); a warning (> 0) is a
@@ -168,9 +189,13 @@ using CholmodLDLT = CholmodSolver<Eigen::CholmodSimplicialLDLT<SpMat, Eigen::Low
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_cholmod_llt() { return std::make_unique<CholmodLLT>("cholmod"); }
+std::unique_ptr<LinearSolver> make_cholmod_llt(long memory_limit_megabytes) {
+  return std::make_unique<CholmodLLT>("cholmod", memory_limit_megabytes);
+}
 
-std::unique_ptr<LinearSolver> make_cholmod_ldlt() { return std::make_unique<CholmodLDLT>("ldlt"); }
+std::unique_ptr<LinearSolver> make_cholmod_ldlt(long memory_limit_megabytes) {
+  return std::make_unique<CholmodLDLT>("ldlt", memory_limit_megabytes);
+}
 
 std::vector<int> cholmod_pivot_order(const LinearSolver& solver) {
   if (const auto* llt = dynamic_cast<const CholmodLLT*>(&solver)) return llt->pivot_order();
@@ -184,7 +209,7 @@ std::unique_ptr<LinearSolver> make_umfpack(bool long_indices) {
 }
 
 std::vector<int> cholmod_ordering(const SpMat& a) {
-  CholmodLLT analysis("cholmod");
+  CholmodLLT analysis("cholmod", kAvailableMemory);
   analysis.analyze(a);
   return analysis.pivot_order();
 }
