@@ -215,8 +215,11 @@ TEST(OutputDirectory, AnotherCaseLeavesNoneOfTheEarlierRunsFiles) {
   EXPECT_EQ(now.erase("notes.txt"), 1u);
   const std::set<std::string> listed = manifest_of(out);
   for (const auto& f : now) EXPECT_TRUE(listed.count(f)) << f << " is not the second run's";
-  for (const auto& f : earlier)
-    if (!listed.count(f)) EXPECT_FALSE(fs::exists(out / f)) << f << " of the earlier run is left";
+  for (const auto& f : earlier) {
+    if (!listed.count(f)) {
+      EXPECT_FALSE(fs::exists(out / f)) << f << " of the earlier run is left";
+    }
+  }
   EXPECT_FALSE(fs::exists(out / "interaction")) << "the earlier run's emptied folder is left";
   EXPECT_TRUE(now.count("roof.pvd") && now.count("vtk/roof_000002.vtu") && now.count("history.csv"));
   fs::remove_all(dir);
