@@ -1,6 +1,6 @@
 # MUMPS, sequential build (Debian 12: libmumps-seq-dev, MUMPS 5.5.1; no CMake or pkg-config files).
 # Defines the INTERFACE target fibrane_mumps: empty when FIBRANE_MUMPS is OFF, otherwise the five
-# sequential libraries and the compile definition FIBRANE_HAVE_MUMPS (src/solve/mumps_solver.cpp).
+# sequential libraries and the compile definition FIBRANE_HAVE_MUMPS (src/linalg/mumps_solver.cpp).
 #
 # Sequential and MPI MUMPS cannot share a process. Debian's sequential libdmumps_seq exports the same
 # C and Fortran symbols as the MPI libdmumps (dmumps_c and ~880 others), and it also defines the stub

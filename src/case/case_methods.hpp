@@ -2,7 +2,7 @@
 // The continuation methods a case can name (steps.method), each registered once in case_methods.cpp with
 // its traits, the sub-block of `steps` holding its controls, and the factory that makes it. The case
 // reader, the run driver and the output ask the registry, so a new method is a ContinuationMethod
-// (src/solve), a reader for its controls and one registration.
+// (src/path), a reader for its controls and one registration.
 #include <functional>
 #include <memory>
 #include <string>

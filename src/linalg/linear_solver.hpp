@@ -87,7 +87,7 @@ struct LinearSolverSettings {
 constexpr int kMaxSkewRows = 48;
 
 // make_linear_solver(settings.kind, symmetric) and, for krylov, single precision or low rank, the
-// KrylovReuseSolver around it (src/solve/krylov_reuse.hpp). InputError for combinations this build
+// KrylovReuseSolver around it (src/linalg/krylov_reuse.hpp). InputError for combinations this build
 // cannot make (single precision or low rank without MUMPS, or with the CHOLMOD kinds or umfpack).
 std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& settings, bool symmetric);
 

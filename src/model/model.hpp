@@ -1,7 +1,7 @@
 #pragma once
 // The discrete model: DOF blocks, constraints, load functions and the contributions (bodies, interactions,
 // loads) whose sum is the weak form Eq. (7). It is the NonlinearSystem that Newton and the continuation
-// methods of src/solve drive: given the free unknowns q and the load parameter t it assembles the reduced
+// methods of src/path drive: given the free unknowns q and the load parameter t it assembles the reduced
 // residual, tangent and load derivative in one loop over its contributions.
 #include <deque>
 #include <map>
