@@ -37,6 +37,8 @@ void check_not_below_minimum(const io::YamlNode& map, const char* step, double v
 void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
   newton.max_iterations = optional_int_in(node, "max_iterations", 1, 1000, newton.max_iterations,
                                  "the most Newton iterations per step");
+  newton.stall_iterations = optional_int_in(node, "stall_iterations", 0, 1000, newton.stall_iterations,
+                                           "the most Newton updates without halving |r| (0: no limit)");
   newton.tol_relative = number_in(node, "tolerance", 0.0, 1.0, true, true, newton.tol_relative);
   newton.tol_absolute = number_in(node, "tolerance_absolute", 0.0, INFINITY, false, true, newton.tol_absolute);
   newton.tol_increment = number_in(node, "tolerance_increment", 0.0, 1.0, false, true, newton.tol_increment);

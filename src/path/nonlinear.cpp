@@ -33,6 +33,27 @@ double forcing_term(const NewtonOptions& opt, const std::vector<double>& history
 
 }  // namespace
 
+std::string GiveUpRules::check(const std::vector<double>& h, double scale) {
+  const int it = static_cast<int>(h.size()) - 1;
+  const double norm = h.back();
+  const std::string at = " at iteration " + std::to_string(it);
+  if (norm > options_.divergence_factor * scale) return "diverged" + at + " (|r| = " + format_number(norm) + ")";
+  if (h.size() >= 5 && std::abs(h[it] - h[it - 2]) <= 1e-3 * h[it] &&
+      std::abs(h[it - 1] - h[it - 3]) <= 1e-3 * h[it - 1] && std::abs(h[it] - h[it - 1]) > 1e-2 * h[it])
+    return "cycling between two states" + at + " (|r| = " + format_number(h[it - 1]) + ", " + format_number(norm) + ")";
+  if (it == 0 || norm < 0.5 * best_) {
+    best_ = norm;
+    best_at_ = it;
+  }
+  if (options_.stall_iterations > 0 && it - best_at_ >= options_.stall_iterations)
+    return "no progress in " + std::to_string(it - best_at_) + " iterations (|r| = " + format_number(norm) +
+           ", the smallest " + format_number(best_) + " at iteration " + std::to_string(best_at_) + ")";
+  if (it >= options_.max_iterations)
+    return "no convergence in " + std::to_string(options_.max_iterations) + " iterations (|r| = " +
+           format_number(norm) + ")";
+  return {};
+}
+
 const Eigen::VectorXd& NonlinearSystem::load_derivative() const {
   static const Eigen::VectorXd none;
   return none;
@@ -49,6 +70,7 @@ NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, 
                             LinearSolver& solver) {
   NewtonReport rep;
   double scale = 0.0, previous_norm = 0.0, floor_estimate = 0.0;
+  GiveUpRules give_up(opt);
   bool small_update = false;
   Eigen::VectorXd last_update;
   double applied = 0.0;  // fraction of last_update in q
@@ -107,25 +129,8 @@ NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, 
       return rep;
     }
     previous_norm = norm;
-    if (norm > opt.divergence_factor * scale) {
-      rep.failure = "diverged at iteration " + std::to_string(it) + " (|r| = " + format_number(norm) + ")";
-      return rep;
-    }
-    // A two-state cycle: the residual repeats every second iteration to 1e-3 (a beam point whose closest
-    // point jumps between two branches at each update). It would spend the remaining iterations for
-    // nothing (docs/examples.md); a cut-back step is the way out.
-    const auto& h = rep.history;
-    if (h.size() >= 5 && std::abs(h[it] - h[it - 2]) <= 1e-3 * h[it] &&
-        std::abs(h[it - 1] - h[it - 3]) <= 1e-3 * h[it - 1] && std::abs(h[it] - h[it - 1]) > 1e-2 * h[it]) {
-      rep.failure = "cycling between two states at iteration " + std::to_string(it) + " (|r| = " +
-                    format_number(h[it - 1]) + ", " + format_number(norm) + ")";
-      return rep;
-    }
-    if (it >= opt.max_iterations) {
-      rep.failure = "no convergence in " + std::to_string(opt.max_iterations) + " iterations (|r| = " +
-                    format_number(norm) + ")";
-      return rep;
-    }
+    rep.failure = give_up.check(rep.history, scale);
+    if (!rep.failure.empty()) return rep;
     // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
     // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
     // tangent (one more evaluation, now with the tangent).

@@ -81,6 +81,10 @@ struct NewtonOptions {
   double forcing_max = 0.01;
   bool verbose = false;               // one line per iteration on stderr
   double divergence_factor = 1e8;     // fail once ||r|| exceeds this multiple of the reference scale
+  // Fail once this many updates in a row have not halved the smallest |r| of the solve (0: off): Newton
+  // that has wandered for as long outside its region of convergence is cut back instead of spending the
+  // rest of max_iterations (GiveUpRules).
+  int stall_iterations = 8;
 };
 
 struct NewtonReport {
@@ -101,11 +105,31 @@ struct NewtonReport {
 // a statistical size (random rounding errors), and the residual there wanders around it by a small factor.
 inline constexpr double kRoundoffFloorFactor = 2.0;
 
+// When an iteration toward a small residual gives up, checked after each evaluation that has not
+// converged, in this order: |r| above divergence_factor x the scale; a two-state cycle (the residual
+// repeats every second iteration to 1e-3: a beam point whose closest point jumps between two branches at
+// each update, docs/examples.md); stall_iterations updates in a row that did not halve the smallest |r|;
+// max_iterations. (The arc-length corrector gives up on divergence and max_iterations only: its
+// iterations, bound to the constraint, can wander for 8-20 updates and still converge, as on the
+// crossed-fibers and peeling examples.)
+class GiveUpRules {
+ public:
+  explicit GiveUpRules(const NewtonOptions& options) : options_(options) {}
+  // Why to give up after the evaluation whose |r| is history.back() (history: |r| of every evaluation of
+  // the solve, the first before any update); empty to go on.
+  std::string check(const std::vector<double>& history, double scale);
+
+ private:
+  const NewtonOptions& options_;
+  double best_;     // the smallest |r| so far, renewed where an update halves it
+  int best_at_ = 0; // its iteration
+};
+
 // Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()),
 // or when ||r|| <= kRoundoffFloorFactor * roundoff_floor() of the last tangent (the tolerance is below what
 // double precision allows for this configuration), or at the increment-based floor of tol_increment.
-// Fails (converged = false, message in failure) on: iteration limit, non-finite residual or update,
-// divergence, failed factorisation. q then holds the last iterate; the caller restores it if needed.
+// Fails (converged = false, message in failure) on: GiveUpRules, non-finite residual or update, failed
+// factorisation. q then holds the last iterate; the caller restores it if needed.
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
                           LinearSolver& solver);
 

@@ -53,6 +53,8 @@ const Malformed cases[] = {
     {"dt_min_above_dt", "steps: {dt: 0.5}", "steps: {dt: 0.5, dt_min: 1}", "steps.dt_min: expected dt_min <= dt"},
     {"reuse_out_of_range", "steps: {dt: 0.5}", "steps: {dt: 0.5, reuse_factorization: 1}",
      "steps.reuse_factorization: expected a number in [0, 1), got 1"},
+    {"stall_negative", "steps: {dt: 0.5}", "steps: {dt: 0.5, stall_iterations: -1}",
+     "steps.stall_iterations: expected the most Newton updates without halving |r| (0: no limit), an integer in [0, 1000]"},
     {"reuse_first_without_reuse", "steps: {dt: 0.5}", "steps: {dt: 0.5, reuse_first_factorization: true}",
      "steps.reuse_first_factorization: needs reuse_factorization > 0"},
     {"unknown_predictor", "steps: {dt: 0.5}", "steps: {dt: 0.5, predictor: cubic}",

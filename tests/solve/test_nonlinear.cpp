@@ -382,6 +382,46 @@ TEST(Newton, StopsEarlyWhenTheIterationCycles) {
   EXPECT_EQ(rep.iterations, 4);  // |r| = 2, 1, 2, 1, 2: the cycle is certain at the fifth residual
 }
 
+// r(q) = cbrt(q) from q = 1: Newton's update is -3 q, so q goes 1, -2, 4, -8, ... and |r| grows by
+// 2^(1/3) per update: no cycle, and 1e8 (divergence) only after ~80 updates. With the stall rule the solve
+// ends once stall_iterations updates have not halved |r| = 1 of iteration 0; without it, at max_iterations.
+TEST(Newton, StopsWhenUpdatesMakeNoProgress) {
+  ScalarSystem sys([](double q) { return std::cbrt(q); },
+                   [](double q) { return 1.0 / (3.0 * std::cbrt(q) * std::cbrt(q)); });
+  auto solver = make_linear_solver("umfpack", false);
+  NewtonOptions opt;
+  opt.max_iterations = 40;
+  for (const int stall : {8, 0}) {
+    opt.stall_iterations = stall;
+    Eigen::VectorXd q = Eigen::VectorXd::Ones(1);
+    const NewtonReport rep = newton_solve(sys, q, 1.0, opt, *solver);
+    EXPECT_FALSE(rep.converged);
+    if (stall > 0) {
+      EXPECT_EQ(rep.iterations, stall);
+      EXPECT_NE(rep.failure.find("no progress in 8 iterations"), std::string::npos) << rep.failure;
+      EXPECT_NE(rep.failure.find("the smallest 1 at iteration 0"), std::string::npos) << rep.failure;
+    } else {
+      EXPECT_EQ(rep.iterations, opt.max_iterations);
+      EXPECT_NE(rep.failure.find("no convergence in 40 iterations"), std::string::npos) << rep.failure;
+    }
+  }
+}
+
+// A residual that halves only every few updates is progress: r(q) = q^2 from q = 1 (a double root:
+// Newton halves q, |r| falls by 4 per update) converges with the rule on.
+TEST(Newton, SlowButSteadyProgressIsNotAStall) {
+  ScalarSystem sys([](double q) { return q * q; }, [](double q) { return 2 * q; });
+  auto solver = make_linear_solver("umfpack", false);
+  NewtonOptions opt;
+  opt.max_iterations = 40;
+  opt.tol_absolute = 1e-20;
+  opt.tol_relative = 1e-20;
+  Eigen::VectorXd q = Eigen::VectorXd::Ones(1);
+  const NewtonReport rep = newton_solve(sys, q, 1.0, opt, *solver);
+  EXPECT_TRUE(rep.converged) << rep.failure;
+  EXPECT_EQ(rep.iterations, 34);  // 4^-34 < 1e-20 < 4^-33
+}
+
 // A finite residual with a NaN in the tangent: reported before any factorisation is tried.
 TEST(Newton, NonFiniteTangentIsReportedBeforeFactorising) {
   ScalarSystem sys([](double q) { return q - 1.0; }, [](double) { return std::nan(""); });
