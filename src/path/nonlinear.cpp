@@ -41,13 +41,13 @@ std::string GiveUpRules::check(const std::vector<double>& h, double scale) {
   if (h.size() >= 5 && std::abs(h[it] - h[it - 2]) <= 1e-3 * h[it] &&
       std::abs(h[it - 1] - h[it - 3]) <= 1e-3 * h[it - 1] && std::abs(h[it] - h[it - 1]) > 1e-2 * h[it])
     return "cycling between two states" + at + " (|r| = " + format_number(h[it - 1]) + ", " + format_number(norm) + ")";
-  if (it == 0 || norm < 0.5 * best_) {
+  if (it == 0 || norm < 0.5 * best_ || norm > 10 * best_) {
     best_ = norm;
     best_at_ = it;
   }
   if (options_.stall_iterations > 0 && it - best_at_ >= options_.stall_iterations)
     return "no progress in " + std::to_string(it - best_at_) + " iterations (|r| = " + format_number(norm) +
-           ", the smallest " + format_number(best_) + " at iteration " + std::to_string(best_at_) + ")";
+           ", none below half of " + format_number(best_) + " at iteration " + std::to_string(best_at_) + ")";
   if (it >= options_.max_iterations)
     return "no convergence in " + std::to_string(options_.max_iterations) + " iterations (|r| = " +
            format_number(norm) + ")";

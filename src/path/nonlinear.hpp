@@ -108,8 +108,9 @@ inline constexpr double kRoundoffFloorFactor = 2.0;
 // When an iteration toward a small residual gives up, checked after each evaluation that has not
 // converged, in this order: |r| above divergence_factor x the scale; a two-state cycle (the residual
 // repeats every second iteration to 1e-3: a beam point whose closest point jumps between two branches at
-// each update, docs/examples.md); stall_iterations updates in a row that did not halve the smallest |r|;
-// max_iterations. (The arc-length corrector gives up on divergence and max_iterations only: its
+// each update, docs/examples.md); stall_iterations updates in a row that did not halve the smallest |r|
+// (counted again from an update that raised |r| tenfold above it: Newton's first update from a penetrating
+// contact often overshoots by 10^2-10^3 and then converges steadily); max_iterations. (The arc-length corrector gives up on divergence and max_iterations only: its
 // iterations, bound to the constraint, can wander for 8-20 updates and still converge, as on the
 // crossed-fibers and peeling examples.)
 class GiveUpRules {
@@ -121,7 +122,7 @@ class GiveUpRules {
 
  private:
   const NewtonOptions& options_;
-  double best_;     // the smallest |r| so far, renewed where an update halves it
+  double best_;     // the reference |r|: the first, then each that halves it or exceeds it tenfold
   int best_at_ = 0; // its iteration
 };
 

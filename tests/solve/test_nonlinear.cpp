@@ -383,8 +383,11 @@ TEST(Newton, StopsEarlyWhenTheIterationCycles) {
 }
 
 // r(q) = cbrt(q) from q = 1: Newton's update is -3 q, so q goes 1, -2, 4, -8, ... and |r| grows by
-// 2^(1/3) per update: no cycle, and 1e8 (divergence) only after ~80 updates. With the stall rule the solve
-// ends once stall_iterations updates have not halved |r| = 1 of iteration 0; without it, at max_iterations.
+// 2^(1/3) per update: no cycle, no tenfold rise within 8 updates (2^(8/3) = 6.3), and 1e8 (divergence) only
+// after ~80 updates. With the stall rule the solve ends once stall_iterations updates have not halved
+// |r| = 1 of iteration 0; without it, at max_iterations. (A first update that overshoots a hundredfold and
+// then converges steadily is no stall: BeamBeamContact.CaseKeyAndHistoryColumn and
+// InteractionOutputs.PointsBeyondThePatchAreCountedMarkedAndReported converge after such updates.)
 TEST(Newton, StopsWhenUpdatesMakeNoProgress) {
   ScalarSystem sys([](double q) { return std::cbrt(q); },
                    [](double q) { return 1.0 / (3.0 * std::cbrt(q) * std::cbrt(q)); });
@@ -399,7 +402,7 @@ TEST(Newton, StopsWhenUpdatesMakeNoProgress) {
     if (stall > 0) {
       EXPECT_EQ(rep.iterations, stall);
       EXPECT_NE(rep.failure.find("no progress in 8 iterations"), std::string::npos) << rep.failure;
-      EXPECT_NE(rep.failure.find("the smallest 1 at iteration 0"), std::string::npos) << rep.failure;
+      EXPECT_NE(rep.failure.find("none below half of 1 at iteration 0"), std::string::npos) << rep.failure;
     } else {
       EXPECT_EQ(rep.iterations, opt.max_iterations);
       EXPECT_NE(rep.failure.find("no convergence in 40 iterations"), std::string::npos) << rep.failure;
