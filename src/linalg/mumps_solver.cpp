@@ -63,7 +63,9 @@ constexpr int kUseCommWorld = -987654;  // MUMPS's communicator value for the se
 //   INFOG(1) = -19 (below the analysis's lower bound) or -9 (delayed pivots) where it needs more; a -9
 //   under the limit is not repeated, since more relaxation only takes memory from the factor's share.
 //   (Set when memory is plentiful, it costs: MUMPS then spreads over the larger work space instead of
-//   compacting it; docs/performance.md, "The memory estimate".)
+//   compacting it; docs/performance.md, "A factorisation's memory limit".)
+// - ICNTL(10) = 0: no iterative refinement inside MUMPS; a single-precision or low-rank factor is refined
+//   in double precision by the caller (KrylovReuseSolver).
 template <class Arithmetic>
 class MumpsSolver final : public LinearSolver {
   using Real = typename Arithmetic::Real;
@@ -141,9 +143,9 @@ class MumpsSolver final : public LinearSolver {
     const bool ooc = !options_.out_of_core_directory.empty();
     return options_.low_rank ? (ooc ? infog(38) : infog(36)) : (ooc ? infog(27) : infog(17));
   }
-  int icntl(int i) const { return id_.icntl[i - 1]; }
   // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
   int& icntl(int i) { return id_.icntl[i - 1]; }
+  int icntl(int i) const { return id_.icntl[i - 1]; }
   int infog(int i) const { return id_.infog[i - 1]; }
   void record_status() {
     last_status_ = infog(1);

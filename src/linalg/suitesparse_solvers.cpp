@@ -42,7 +42,8 @@ int negative_pivots(const cholmod_factor& f) {
 template <class Factorization>
 class CholmodSolver final : public LinearSolver {
  public:
-  CholmodSolver(std::string name, long memory_limit_megabytes) : name_(std::move(name)), memory_limit_(memory_limit_megabytes) {
+  CholmodSolver(std::string name, long memory_limit_megabytes)
+      : name_(std::move(name)), memory_limit_(memory_limit_megabytes) {
     fact_.cholmod().print = 0;  // failures are reported through factorize()'s return value
   }
   void analyze(const SpMat& a) override {
