@@ -1,6 +1,7 @@
-// The sparse solvers on a case's tangent at t = 0 (undeformed, after one evaluation):
+// The sparse solvers on a case's tangent at t = 0 (undeformed, after one evaluation), or at the state of a
+// run's checkpoint (--state DIR: the output directory of a run of the same case, unfinished):
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
-//                       [--rounds R]
+//                       [--rounds R] [--state DIR]
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
@@ -32,6 +33,7 @@
 #include "case/case_reader.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/linear_solver.hpp"
+#include "run/checkpoint.hpp"
 
 namespace {
 
@@ -153,15 +155,18 @@ std::string best_median(std::vector<double> v) {
 int main(int argc, char** argv) {
   const char* usage =
       "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
-      "[--rounds R]\n  analysis, factorisation and solve of the case's first tangent (shifted by -S mean(diag) I)\n";
+      "[--rounds R] [--state DIR]\n  analysis, factorisation and solve of the case's first tangent, or its tangent at the "
+      "checkpoint in DIR (shifted by -S mean(diag) I)\n";
   std::vector<std::string> kinds;
   double shift = 0;
   int rounds = 1, code = 0;
+  std::string state;
   const auto path = case_arguments(argc, argv, usage, [&](const std::string& a, int& i) {
     if (i + 1 >= argc) return false;
     if (a == "--solver") kinds.emplace_back(argv[++i]);
     else if (a == "--shift") shift = std::stod(argv[++i]);
     else if (a == "--rounds") rounds = std::max(1, std::stoi(argv[++i]));
+    else if (a == "--state") state = argv[++i];
     else return false;
     return true;
   }, code);
@@ -169,14 +174,22 @@ int main(int argc, char** argv) {
   if (kinds.empty()) kinds = {"auto", "symmetric-auto"};
   auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
-  m.evaluate(m.initial_unknowns(), 0.0, true);
+  if (state.empty()) {
+    m.evaluate(m.initial_unknowns(), 0.0, true);
+  } else {
+    const fibrane::run::RunCheckpoint checkpoint = fibrane::run::read_checkpoint(state, c);
+    m.restore_state(checkpoint.model);
+    m.evaluate(checkpoint.q, checkpoint.t, true);
+    fmt::print("state: step {} at t = {} from {}\n", checkpoint.step, checkpoint.t, state);
+  }
   Eigen::SparseMatrix<double> k = m.tangent();
   const double mean_diagonal = k.diagonal().mean();
   if (shift != 0) k.diagonal().array() -= shift * mean_diagonal;
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(k.rows());
-  fmt::print("case {}: {} unknowns, {} matrix non-zeros, {} threads (BLAS {}), shift {} x mean diagonal {:.6g}\n",
+  fmt::print("case {}: {} unknowns, {} matrix non-zeros, {} threads (BLAS {}), shift {} x mean diagonal {:.6g}, "
+             "resident {:.0f} MiB (peak {:.0f}) before the solvers\n",
              argv[1], k.rows(), k.nonZeros(), omp_get_max_threads(), fibrane::solve::blas_thread_count(), shift,
-             mean_diagonal);
+             mean_diagonal, status_mib("VmRSS"), status_mib("VmHWM"));
   std::vector<Row> rows(kinds.size());
   for (int round = 0; round < rounds; ++round)
     for (size_t s = 0; s < kinds.size(); ++s) {

@@ -223,6 +223,10 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
   for (size_t k = 0; k < positions_.size(); ++k) values_[k] = static_cast<Real>(v[positions_[k]]);
   id_.a = values_.data();
   const int relaxation = icntl(14);
+  // Out of core, the factor is read back through the system's page cache at every solve; memory that the
+  // process has freed but keeps (the last iteration's work arrays) would take that cache's place.
+  const bool out_of_core = !options_.out_of_core_directory.empty();
+  if (out_of_core) hand_back_freed_memory();
   for (int attempt = 0; attempt < 4; ++attempt) {
     icntl(23) = memory_limit(relaxation);
     id_.job = 2;
@@ -232,6 +236,7 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
     icntl(14) *= 2;
   }
   icntl(14) = relaxation;
+  if (out_of_core) hand_back_freed_memory();  // the factorisation's own work space beyond the stack
   record_status();
   factored_ = infog(1) >= 0;
   return factored_;
