@@ -33,6 +33,7 @@
 #include "case/case_reader.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/linear_solver.hpp"
+#include "linalg/symmetry_probe.hpp"
 #include "run/checkpoint.hpp"
 
 namespace {
@@ -190,6 +191,19 @@ int main(int argc, char** argv) {
              "resident {:.0f} MiB (peak {:.0f}) before the solvers\n",
              argv[1], k.rows(), k.nonZeros(), omp_get_max_threads(), fibrane::solve::blas_thread_count(), shift,
              mean_diagonal, status_mib("VmRSS"), status_mib("VmHWM"));
+  {  // the passes of "auto" over an unsymmetric-capable model's matrix before each factorisation
+    fibrane::solve::SymmetryProbe probe;
+    Eigen::SparseMatrix<double> s;
+    std::vector<int> support;
+    const double build = measure([&] { probe.build(k); }).wall;
+    bool symmetric = false;
+    const double check = measure([&] { symmetric = probe.symmetric(k); }).wall;
+    const double classify = measure([&] { support = probe.skew_support(k); }).wall;
+    const double part = measure([&] { probe.symmetric_part(k, s); }).wall;
+    const double again = measure([&] { probe.symmetric_part(k, s); }).wall;
+    fmt::print("symmetry probe: map {:.3f} s, symmetric {:.3f} s ({}), skew support {:.3f} s ({} rows), symmetric part "
+               "{:.3f} s (into its pattern {:.3f} s)\n", build, check, symmetric, classify, support.size(), part, again);
+  }
   std::vector<Row> rows(kinds.size());
   for (int round = 0; round < rounds; ++round)
     for (size_t s = 0; s < kinds.size(); ++s) {

@@ -200,8 +200,8 @@ class SymmetryProbingSolver final : public LinearSolver {
   enum class Path { symmetric, skew, lu };
   // The path for a (support_ set for the skew path).
   Path choose(const SpMat& a) {
-    if (probe_.symmetric(a)) return Path::symmetric;
     support_ = probe_.skew_support(a);
+    if (support_.empty() && probe_.structurally_symmetric() && probe_.size() == a.nonZeros()) return Path::symmetric;
     return !support_.empty() && support_.size() <= static_cast<size_t>(kMaxSkewRows) ? Path::skew : Path::lu;
   }
   // Makes `path` current, analysing its solver if it is another one than before or `analyse` is set. The

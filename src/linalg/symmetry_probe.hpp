@@ -18,10 +18,11 @@ class SymmetryProbe {
   // The number of entries of the pattern the map was built for (0 without a map).
   Eigen::Index size() const { return static_cast<Eigen::Index>(mirror_.size()); }
   // Whether every |a_ij - a_ji| <= 1e-12 max|a| (false without a map). `a` must have the pattern of
-  // the last build().
+  // the last build(). One pass over the values (skew_support() is empty).
   bool symmetric(const Eigen::SparseMatrix<double>& a) const;
   // The rows (sorted) where a differs from its transpose by more than that tolerance: the skew part
-  // (a - a^T) / 2 lives in these rows and the same columns. Empty without a map or for another pattern.
+  // (a - a^T) / 2 lives in these rows and the same columns. Empty without a map, for another pattern, or
+  // for a matrix that is symmetric(): a caller that needs both asks only this, in one pass.
   std::vector<int> skew_support(const Eigen::SparseMatrix<double>& a) const;
   // s = (a + a^T) / 2. Only the values are written when s has as many entries as a, which must then be
   // a's pattern (a copy of a matrix of the last build()); otherwise s becomes a copy of a first.

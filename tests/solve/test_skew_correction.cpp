@@ -46,6 +46,25 @@ TEST(SkewCorrection, ProbeFindsTheSkewRowsAndTheSymmetricPart) {
   EXPECT_LT((s - expected).norm(), 1e-14 * a.norm());
 }
 
+TEST(SkewCorrection, ProbeSharesTheColumnsAmongThreads) {
+  // A 300 x 300 grid (90 000 unknowns, ~450 000 entries: above the probe's serial limit) with skew rows at
+  // both ends of the column range, where two threads' shares begin and end; the support must be the same
+  // at 1 and 2 threads, and a symmetric matrix's empty.
+  const SpMat a = with_skew_rows(300, {0, 44998, 89998}, 3);
+  SymmetryProbe probe;
+  probe.build(a);
+  const std::vector<int> expected{0, 1, 44998, 44999, 89998, 89999};
+  for (int threads : {1, 2}) {
+    set_thread_count(threads);
+    EXPECT_EQ(probe.skew_support(a), expected) << threads << " threads";
+    EXPECT_FALSE(probe.symmetric(a));
+    SpMat s;
+    probe.symmetric_part(a, s);
+    EXPECT_TRUE(probe.skew_support(s).empty());
+    EXPECT_TRUE(probe.symmetric(s));
+  }
+}
+
 TEST(SkewCorrection, AutoSolvesThroughTheSymmetricPartAsTheLuDoes) {
   // 40 x 40 grid (1 600 unknowns) with a skew part on 8 rows; two matrices of the same pattern.
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(1600, -1.0, 2.0);
