@@ -157,8 +157,10 @@ class MumpsSolver final : public LinearSolver {
   // Coordinates (1-based) of the entries MUMPS reads (the lower triangle for LDL^T, all for LU), and
   // where each sits in the matrix's values.
   std::vector<int> rows_, cols_;
-  std::vector<Eigen::Index> positions_;
-  std::vector<Real> values_;
+  std::vector<Real> values_;  // the entries of irn/jcn, in a's order (the whole matrix, or its lower triangle)
+  // Copies a's entries that MUMPS takes into values_, in the order analyze() listed them; false (values_
+  // incomplete) when a has another number of them than the analysed pattern.
+  bool gather_values(const SpMat& a);
   std::vector<int> perm_in_;  // PERM_IN (1-based), the inverse of the pivot order
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
   mutable typename Arithmetic::Struct id_{};
@@ -178,15 +180,13 @@ void MumpsSolver<Arithmetic>::analyze(const SpMat& a) {
   }
   rows_.clear();
   cols_.clear();
-  positions_.clear();
   for (Eigen::Index j = 0; j < a.outerSize(); ++j)
     for (SpMat::InnerIterator it(a, j); it; ++it)
       if (options_.unsymmetric || it.row() >= j) {
         rows_.push_back(static_cast<int>(it.row()) + 1);
         cols_.push_back(static_cast<int>(j) + 1);
-        positions_.push_back(&it.value() - a.valuePtr());
       }
-  values_.assign(positions_.size(), Real(0));
+  values_.assign(rows_.size(), Real(0));
   n_ = a.rows();
   matrix_nonzeros_ = a.nonZeros();
   id_.n = static_cast<int>(n_);
@@ -214,13 +214,24 @@ void MumpsSolver<Arithmetic>::analyze(const SpMat& a) {
 }
 
 template <class Arithmetic>
+bool MumpsSolver<Arithmetic>::gather_values(const SpMat& a) {
+  size_t k = 0;
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j)
+    for (SpMat::InnerIterator it(a, j); it; ++it)
+      if ((options_.unsymmetric || it.row() >= j) && k++ < values_.size()) values_[k - 1] = static_cast<Real>(it.value());
+  return k == values_.size();
+}
+
+template <class Arithmetic>
 bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
   if (!analyzed_ || a.rows() != n_ || a.nonZeros() != matrix_nonzeros_) analyze(a);
   factored_ = false;
   if (!analyzed_) return false;
+  if (!gather_values(a)) {  // the same size and count of entries, but another pattern
+    analyze(a);
+    if (!analyzed_ || !gather_values(a)) return false;
+  }
   const BlasThreadsForFactor threads(factor_nonzeros());
-  const double* v = a.valuePtr();
-  for (size_t k = 0; k < positions_.size(); ++k) values_[k] = static_cast<Real>(v[positions_[k]]);
   id_.a = values_.data();
   const int relaxation = icntl(14);
   // Out of core, the factor is read back through the system's page cache at every solve; memory that the
