@@ -106,7 +106,7 @@ bool Coupling::update(const State& state) {
   });
   error.rethrow();
   calibrate_soft_points(u, dofs);
-  if (windows_changed) build_soft_element();
+  if (windows_changed) build_soft_elements();
   return collect_pairs();
 }
 
@@ -161,7 +161,7 @@ void Coupling::accept(const State& state) {
   if (!update_soft_windows()) return;
   proximity_.update(current_points(shell_, state.u, state.dofs));
   calibrate_soft_points(state.u, state.dofs);
-  build_soft_element();
+  build_soft_elements();
 }
 
 void Coupling::reject() {
@@ -210,9 +210,9 @@ std::vector<std::vector<int>> Coupling::element_dofs(const solve::DofMap& dofs) 
     append(d, beam_.elements[eb].control_points, shell_.element_control_points[es]);
     out.push_back(std::move(d));
   }
-  if (!soft_.empty()) {
+  for (const SoftGroup& g : soft_groups_) {
     std::vector<int> d;
-    append(d, soft_beam_cps_, soft_shell_cps_);
+    append(d, g.beam_cps, g.shell_cps);
     out.push_back(std::move(d));
   }
   return out;

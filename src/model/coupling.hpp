@@ -135,7 +135,12 @@ class Coupling final : public Interaction {
     // energy is continuous across the switch; kept when the window is re-centred (D changes by < e^-30).
     double offset = 0;
     bool calibrated = false;
-    std::vector<int> to_union;  // the point's local DOFs (beam CPs x 4, window CPs x 3) in the soft element
+    int group = 0;              // its soft element: index into soft_groups_
+    std::vector<int> to_union;  // the point's local DOFs (beam CPs x 4, window CPs x 3) in its soft element
+  };
+  // The control points of one soft element (sorted): its points' beam elements' and windows'.
+  struct SoftGroup {
+    std::vector<int> beam_cps, shell_cps;
   };
   double beta() const;  // 1 / (width d_eq)
   Eigen::Vector3d beam_point(int i, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
@@ -147,12 +152,14 @@ class Coupling final : public Interaction {
   double evaluate_soft_points(const State& s, ElementSink& sink, bool& bad);
   // Distributed: sums the points' output data and `energy` over the processes (collective).
   void share_points(const ElementSink& sink, double& energy);
-  // All soft points share one pattern element: the union of their beam elements' and windows' control
-  // points (their windows overlap almost entirely), each point adding the sub-block of its support.
-  void build_soft_element();
+  // Soft points whose windows share a control point share one pattern element (after the pairs'): the
+  // union of their beam elements' and windows' control points (such windows overlap almost entirely), each
+  // point adding the sub-block of its support. Points with windows apart (at the two ends of a fiber)
+  // have elements apart, so that the pattern does not couple the two windows with each other.
+  void build_soft_elements();
   // After a converged step: points to switch to the soft minimum and windows to re-centre.
   void request_soft_switches();
-  std::vector<int> soft_beam_cps_, soft_shell_cps_;  // the soft element's control points, sorted
+  std::vector<SoftGroup> soft_groups_;
   double soft_width_ = 0, soft_below_ = 0;  // width 0: off
   std::vector<SoftPoint> soft_;
   std::vector<int> soft_of_;                                   // per quadrature point: index into soft_, or -1

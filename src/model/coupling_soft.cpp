@@ -1,8 +1,9 @@
 // The soft-minimum part of the coupling (interaction/soft_distance.hpp, docs/interaction.md section 7):
-// which beam points switch to it, their windows on the shell, the continuity offset at the switch, the one
-// pattern element they share, and their evaluation.
+// which beam points switch to it, their windows on the shell, the continuity offset at the switch, the
+// pattern elements they share, and their evaluation.
 #include <algorithm>
 
+#include "common/overlap_groups.hpp"
 #include "common/parallel_errors.hpp"
 #include "model/beam_body.hpp"
 #include "model/coupling.hpp"
@@ -64,28 +65,37 @@ void Coupling::calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofM
   }
 }
 
-void Coupling::build_soft_element() {
-  soft_beam_cps_.clear();
-  soft_shell_cps_.clear();
-  for (const SoftPoint& sp : soft_) {
+void Coupling::build_soft_elements() {
+  // One group per set of points whose windows are joined through shared control points.
+  std::vector<const std::vector<int>*> windows;
+  for (const SoftPoint& sp : soft_) windows.push_back(&sp.window.control_points);
+  const std::vector<int> group_of = overlap_groups(windows);
+  const auto groups = group_of.empty() ? 0 : *std::max_element(group_of.begin(), group_of.end()) + 1;
+  soft_groups_.assign(static_cast<std::size_t>(groups), {});
+  for (std::size_t k = 0; k < soft_.size(); ++k) {
+    SoftPoint& sp = soft_[k];
+    sp.group = group_of[k];
     const auto& beam_cps = beam_.elements[quad_[sp.point].element].control_points;
-    soft_beam_cps_.insert(soft_beam_cps_.end(), beam_cps.begin(), beam_cps.end());
-    soft_shell_cps_.insert(soft_shell_cps_.end(), sp.window.control_points.begin(), sp.window.control_points.end());
+    SoftGroup& g = soft_groups_[static_cast<std::size_t>(sp.group)];
+    g.beam_cps.insert(g.beam_cps.end(), beam_cps.begin(), beam_cps.end());
+    g.shell_cps.insert(g.shell_cps.end(), sp.window.control_points.begin(), sp.window.control_points.end());
   }
-  for (auto* cps : {&soft_beam_cps_, &soft_shell_cps_}) {
-    std::sort(cps->begin(), cps->end());
-    cps->erase(std::unique(cps->begin(), cps->end()), cps->end());
-  }
+  for (SoftGroup& group : soft_groups_)
+    for (auto* cps : {&group.beam_cps, &group.shell_cps}) {
+      std::sort(cps->begin(), cps->end());
+      cps->erase(std::unique(cps->begin(), cps->end()), cps->end());
+    }
   auto index = [](const std::vector<int>& sorted, int cp) {
     return static_cast<int>(std::lower_bound(sorted.begin(), sorted.end(), cp) - sorted.begin());
   };
-  const int beam_size = 4 * static_cast<int>(soft_beam_cps_.size());
   for (SoftPoint& sp : soft_) {
+    const SoftGroup& group = soft_groups_[static_cast<std::size_t>(sp.group)];
+    const int beam_size = 4 * static_cast<int>(group.beam_cps.size());
     sp.to_union.clear();
     for (int cp : beam_.elements[quad_[sp.point].element].control_points)
-      for (int c = 0; c < 4; ++c) sp.to_union.push_back(4 * index(soft_beam_cps_, cp) + c);
+      for (int c = 0; c < 4; ++c) sp.to_union.push_back(4 * index(group.beam_cps, cp) + c);
     for (int cp : sp.window.control_points)
-      for (int c = 0; c < 3; ++c) sp.to_union.push_back(beam_size + 3 * index(soft_shell_cps_, cp) + c);
+      for (int c = 0; c < 3; ++c) sp.to_union.push_back(beam_size + 3 * index(group.shell_cps, cp) + c);
   }
 }
 
@@ -109,12 +119,16 @@ void Coupling::request_soft_switches() {
 }
 
 double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, bool& bad) {
-  // Each soft point adds the sub-block of its support to the one soft element (after the pairs). The points
-  // are evaluated in parallel and added in their order afterwards: the sub-blocks overlap, and added from
-  // several threads they would need a per-thread copy of the matrix values (solve::SparseAssembler).
-  const int n_soft = static_cast<int>(soft_.size());
-  const int soft_element = static_cast<int>(pairs_.size());
-  if (n_soft == 0 || !sink.owns(soft_element)) return 0.0;
+  // Each soft point adds the sub-block of its support to its group's soft element (after the pairs). The
+  // points are evaluated in parallel and added in their order afterwards: the sub-blocks overlap, and added
+  // from several threads they would need a per-thread copy of the matrix values (solve::SparseAssembler).
+  // A distributed run evaluates the points of the soft elements this process owns.
+  const int first_element = static_cast<int>(pairs_.size());
+  std::vector<int> owned;
+  for (int k = 0; k < static_cast<int>(soft_.size()); ++k)
+    if (sink.owns(first_element + soft_[static_cast<std::size_t>(k)].group)) owned.push_back(k);
+  const int n_soft = static_cast<int>(owned.size());
+  if (n_soft == 0) return 0.0;
   const Eigen::VectorXd& u = state.u;
   const solve::DofMap& dofs = state.dofs;
   const bool with_tangent = sink.with_tangent();
@@ -128,8 +142,9 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   {
     double energy = 0;
 #pragma omp for schedule(static, 1)
-    for (int k = 0; k < n_soft; ++k) error.run([&] {
-      const SoftPoint& sp = soft_[k];
+    for (int j = 0; j < n_soft; ++j) error.run([&] {
+      const int k = j;
+      const SoftPoint& sp = soft_[static_cast<std::size_t>(owned[static_cast<std::size_t>(j)])];
       const auto& qp = quad_[sp.point];
       const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
       const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
@@ -162,7 +177,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   error.rethrow();
   for (int k = 0; k < n_soft; ++k) {
     const auto p = static_cast<std::size_t>(k);
-    if (!support_of[p].empty()) sink.add(soft_element, support_of[p], r_of[p], with_tangent ? &k_of[p] : nullptr);
+    const int element = first_element + soft_[static_cast<std::size_t>(owned[p])].group;
+    if (!support_of[p].empty()) sink.add(element, support_of[p], r_of[p], with_tangent ? &k_of[p] : nullptr);
   }
   return sum.total();
 }

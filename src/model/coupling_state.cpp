@@ -93,7 +93,7 @@ void Coupling::restore_state(const std::vector<double>& state) {
   }
   soft_changed_ = r.next() != 0.0;
   r.finish();
-  build_soft_element();
+  build_soft_elements();
   std::fill(jump_.begin(), jump_.end(), 0.0);
   failed_jumps_.clear();
 }

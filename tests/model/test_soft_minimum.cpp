@@ -7,6 +7,7 @@
 #include <random>
 
 #include "case_runner.hpp"
+#include "common/overlap_groups.hpp"
 #include "model/coupling.hpp"
 #include "common/error.hpp"
 
@@ -64,6 +65,18 @@ TEST(SoftMinimum, SwitchIsCalibratedAtTheAcceptedState) {
   EXPECT_GT(std::abs(coupling.energy() - plain_energy), 1e-6 * std::abs(plain_energy)) << "the step must matter";
   m.evaluate(q, 1.0, false);
   EXPECT_NEAR(coupling.energy(), plain_energy, 1e-12 * std::abs(plain_energy));
+}
+
+// Soft points share a pattern element only where their windows are joined through shared control points
+// (overlap_groups): the windows at a fiber's two ends get elements apart, so that the pattern holds no
+// block coupling them. Chains join (0-1-3), a set alone is its own group, and the numbers follow the
+// first set of each group.
+TEST(SoftMinimum, WindowsApartGetElementsApart) {
+  const std::vector<int> a{1, 2, 3}, b{10, 11}, c{20}, d{3, 4}, e{11, 12}, f{4, 5};
+  EXPECT_EQ(overlap_groups({&a, &b, &c, &d, &e, &f}), (std::vector<int>{0, 1, 2, 0, 1, 0}));
+  EXPECT_EQ(overlap_groups({&c, &a, &b}), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(overlap_groups({&a, &b, &f, &d}), (std::vector<int>{0, 1, 0, 0}));  // f joins a through d, later
+  EXPECT_TRUE(overlap_groups({}).empty());
 }
 
 void expect_input_error(const std::string& name, const std::string& soft, const std::string& message) {
