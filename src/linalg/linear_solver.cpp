@@ -156,11 +156,7 @@ class SymmetryProbingSolver final : public LinearSolver {
     if (path_ == Path::skew) {
       probe_.symmetric_part(a, s_);
       SkewCorrection::dominate_support(s_, support_);
-      const bool ok = current_->factorize(s_) && correction_.prepare(*current_, a, s_, support_);
-      // The factor and the correction hold all that the solves need: the symmetric part's copy of the
-      // matrix goes until the next one (out of core, the system's cache of the factor files gets its place).
-      s_ = SpMat();
-      if (ok) return true;
+      if (current_->factorize(s_) && correction_.prepare(*current_, a, s_, support_)) return true;
       pick(a, Path::lu, false);  // S indefinite beyond the chain, or singular: this matrix goes to the LU
     }
     return current_->factorize(a);
@@ -236,7 +232,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   SymmetryProbe probe_;
   Path path_ = Path::lu;
   std::vector<int> support_;
-  SpMat s_;  // the symmetric part on the skew path, while it is factorised
+  SpMat s_;  // the symmetric part on the skew path (kept: the next matrix's is written into its pattern)
   SkewCorrection correction_;
   bool step_starts_ = false;  // begin_step() was called: the next matrix is a step's first
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;
