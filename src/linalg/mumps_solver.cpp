@@ -154,8 +154,7 @@ class MumpsSolver final : public LinearSolver {
   }
 
   MumpsOptions options_;
-  // Coordinates (1-based) of the entries MUMPS reads (the lower triangle for LDL^T, all for LU), and
-  // where each sits in the matrix's values.
+  // Coordinates (1-based) of the entries MUMPS reads (the lower triangle for LDL^T, all for LU).
   std::vector<int> rows_, cols_;
   std::vector<Real> values_;  // the entries of irn/jcn, in a's order (the whole matrix, or its lower triangle)
   // Copies a's entries that MUMPS takes into values_, in the order analyze() listed them; false (values_

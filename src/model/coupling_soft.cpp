@@ -142,9 +142,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   {
     double energy = 0;
 #pragma omp for schedule(static, 1)
-    for (int j = 0; j < n_soft; ++j) error.run([&] {
-      const int k = j;
-      const SoftPoint& sp = soft_[static_cast<std::size_t>(owned[static_cast<std::size_t>(j)])];
+    for (int k = 0; k < n_soft; ++k) error.run([&] {
+      const SoftPoint& sp = soft_[static_cast<std::size_t>(owned[static_cast<std::size_t>(k)])];
       const auto& qp = quad_[sp.point];
       const auto qb = beam_.current(beam_.elements[qp.element].control_points, u, dofs);
       const Eigen::Matrix3Xd beam_x = qb.topRows<3>();
