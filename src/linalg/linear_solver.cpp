@@ -144,8 +144,8 @@ class SymmetryProbingSolver final : public LinearSolver {
   SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
-    probe_.build(a);
     s_ = SpMat();  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
+    probe_.build(a);
     pick(a, choose(a), true);
   }
   bool factorize(const SpMat& a) override {

@@ -9,7 +9,7 @@ namespace fibrane::solve {
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
 // without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
-  mirror_.clear();
+  std::vector<int>().swap(mirror_);  // the last pattern's map goes before the new one is built
   structurally_symmetric_ = false;
   if (a.rows() != a.cols() || !a.isCompressed()) return;
   const int* outer = a.outerIndexPtr();

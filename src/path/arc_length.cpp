@@ -182,6 +182,7 @@ bool ArcLength::step(NonlinearSystem& sys, const Eigen::VectorXd& q, const Tange
     if (newton_.verbose)
       std::fprintf(stderr, "arc-length step at t=%.6g ds=%.3g failed: %s; cutting back\n", t_, ds, at.failure.c_str());
     sys.reject();
+    ++res.failed_attempts;
     ds *= control_.cutback;
     if (ds < control_.ds_min) {
       res.outcome = Outcome::failed;

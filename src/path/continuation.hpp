@@ -62,6 +62,7 @@ struct ContinuationResult {
   double t_reached = 0;
   int steps = 0;
   int total_iterations = 0;  // including failed attempts
+  int failed_attempts = 0;   // attempts that did not converge (each retried smaller, or the run's end)
   std::string message;
   // Completed runs: the end, a stop rule, or a limit point the case declared acceptable.
   bool completed() const { return outcome == Outcome::reached_end || outcome == Outcome::stopped ||

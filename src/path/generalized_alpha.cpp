@@ -311,6 +311,7 @@ ContinuationResult GeneralizedAlpha::run(NonlinearSystem& base, Eigen::VectorXd&
         std::fprintf(stderr, "step to t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try, newton.failure.c_str());
       sys->reject();
       ++cutbacks;
+      ++res.failed_attempts;
       dt_try = std::max(dt_try * factor, newton.converged ? sc.dt_min : 0.0);
       if (dt_try < sc.dt_min) {
         sys->begin_step(nullptr);

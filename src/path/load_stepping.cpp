@@ -101,6 +101,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
                      newton.failure.c_str());
       sys.reject();
       ++cutbacks;
+      ++res.failed_attempts;
       dt_try *= sc.cutback;
       if (dt_try < sc.dt_min) {
         const bool limit = sc.stop_at_limit_point && res.steps > 0;

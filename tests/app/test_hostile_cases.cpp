@@ -167,6 +167,8 @@ TEST(HostileRuns, OverflowingDynamicsStepEndsAsAFailedRun) {
     std::stringstream json;
     json << summary.rdbuf();
     EXPECT_NE(json.str().find("\"outcome\": \"failed\""), std::string::npos) << json.str();
+    EXPECT_NE(json.str().find("\"failed_attempts\": "), std::string::npos) << json.str();
+    EXPECT_EQ(json.str().find("\"failed_attempts\": 0"), std::string::npos) << json.str();  // every attempt failed
   }
 }
 

@@ -213,6 +213,7 @@ TEST(ArcLengthControl, CutsBackFailedStepsAndRejectsEveryAttempt) {
   }
   EXPECT_GE(path.front().report.cutbacks, 5);
   EXPECT_EQ(fold.rejected(), cutbacks);  // sys.reject() before every retry
+  EXPECT_EQ(res.failed_attempts, cutbacks);
   EXPECT_EQ(fold.accepted(), res.steps);
 }
 
@@ -231,6 +232,7 @@ TEST(ArcLengthControl, FailsCleanlyBelowDsMin) {
   EXPECT_NE(res.message.find("ds_min"), std::string::npos) << res.message;
   EXPECT_EQ(q[0], 0.0);  // the starting state, untouched
   EXPECT_EQ(fold.rejected(), 2);  // 1.6 and 0.8 tried, 0.4 < ds_min
+  EXPECT_EQ(res.failed_attempts, 2);
   EXPECT_EQ(fold.accepted(), 0);
 }
 

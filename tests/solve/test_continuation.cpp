@@ -140,6 +140,7 @@ TEST(Continuation, CutsBackWhenAStepIsTooLargeAndRecovers) {
   EXPECT_GE(cutback_steps, 1);
   // Every failed attempt tells the system (history-dependent state, e.g. projection branches, goes back).
   EXPECT_EQ(bar.rejected(), cutbacks);
+  EXPECT_EQ(res.failed_attempts, cutbacks);  // summary.json's count
   EXPECT_EQ(t_last, 1.0);
   EXPECT_NEAR(q[0], std::atanh(load), 1e-7);
 }
@@ -154,6 +155,8 @@ TEST(Continuation, StopsCleanlyBelowDtMinBeyondTheLimitLoad) {
   const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(bar, q, *solver, nullptr);
   EXPECT_FALSE(res.completed());
   EXPECT_NE(res.message.find("dt_min"), std::string::npos) << res.message;
+  EXPECT_EQ(res.failed_attempts, bar.rejected());  // the attempts that ended the run as well
+  EXPECT_GT(res.failed_attempts, 0);
   EXPECT_LT(res.t_reached, 0.8);  // no equilibrium beyond: a hard bound
   EXPECT_GT(res.t_reached, 0.75); // steps of >= 1e-4 approach the limit closely (loose on purpose)
   // q is the last converged state: residual |tanh(q) - F t| below the Newton tolerance 1e-9 * scale

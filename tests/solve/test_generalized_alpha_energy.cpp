@@ -232,6 +232,7 @@ TEST(GeneralizedAlphaEnergy, CutsBackWhenNewtonFailsAndGrowsAgain) {
   }
   EXPECT_GT(cutbacks, 0);
   EXPECT_EQ(osc.rejected(), cutbacks);  // every failed attempt is reported to the system
+  EXPECT_EQ(run.result.failed_attempts, cutbacks);
   EXPECT_LT(smallest, 0.4 * sc.cutback + 1e-12);
   EXPECT_GT(run.reports.back().dt, smallest);  // grew again after the hard part
   EXPECT_EQ(osc.accepted(), run.result.steps);
