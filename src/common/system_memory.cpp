@@ -1,6 +1,8 @@
 #include "common/system_memory.hpp"
 
 #include <malloc.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <fstream>
@@ -78,6 +80,14 @@ std::uint64_t available_memory() {
   const GroupMemory group = group_memory();
   if (group.limit > 0) available = std::min(available, group.limit > group.usage ? group.limit - group.usage : 0);
   return available + mallinfo2().fordblks;
+}
+
+void release_pages(const void* data, std::size_t bytes) {
+  static const std::uintptr_t page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
+  const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(data);
+  const std::uintptr_t first = (begin + 4096 + page - 1) / page * page;
+  const std::uintptr_t last = bytes > 4096 ? (begin + bytes - 4096) / page * page : 0;
+  if (data && last > first) madvise(reinterpret_cast<void*>(first), last - first, MADV_DONTNEED);
 }
 
 }  // namespace fibrane

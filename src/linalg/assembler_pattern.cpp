@@ -11,6 +11,7 @@
 #include <omp.h>
 
 #include "common/parallel_errors.hpp"
+#include "linalg/release_storage.hpp"
 
 namespace fibrane::solve {
 
@@ -133,9 +134,9 @@ void SparseAssembler::locate(ElementTable& t, const Pattern& p) {
 // assembler").
 void SparseAssembler::set_matrix(const Pattern& p) {
   const int n = static_cast<int>(p.outer.size()) - 1;
-  // A larger pattern needs new storage: the old is freed first (its values are not kept), so that the two
-  // never coexist. A smaller one reuses the storage.
-  if (matrix_.data().allocatedSize() < static_cast<Eigen::Index>(p.inner.size())) matrix_ = Eigen::SparseMatrix<double>();
+  // A larger pattern needs new storage: the old is freed first (its values are not kept), its pages handed
+  // back, so that the two never coexist in memory. A smaller one reuses the storage.
+  if (matrix_.data().allocatedSize() < static_cast<Eigen::Index>(p.inner.size())) release_storage(matrix_);
   matrix_.resize(n, n);  // empty, compressed; the value and index storage keeps its capacity
   matrix_.data().resize(static_cast<Eigen::Index>(p.inner.size()), 0.1);
   std::copy(p.outer.begin(), p.outer.end(), matrix_.outerIndexPtr());

@@ -14,6 +14,7 @@
 #include "common/system_memory.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/krylov_reuse.hpp"
+#include "linalg/release_storage.hpp"
 #include "linalg/skew_correction.hpp"
 #include "linalg/symmetry_probe.hpp"
 
@@ -144,7 +145,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
-    s_ = SpMat();  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
+    release_storage(s_);  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
     probe_.build(a);
     pick(a, choose(a), true);
   }
@@ -222,7 +223,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       current_ = lu_.get();
     }
     if (path != Path::skew) {
-      s_ = SpMat();
+      release_storage(s_);
       correction_.clear();
     }
     if (analyse || switched) current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)

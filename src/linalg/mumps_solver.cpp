@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/system_memory.hpp"
 #include "linalg/direct_solvers.hpp"
 
 #ifdef FIBRANE_HAVE_MUMPS
@@ -160,6 +161,8 @@ class MumpsSolver final : public LinearSolver {
   // Copies a's entries that MUMPS takes into values_, in the order analyze() listed them; false (values_
   // incomplete) when a has another number of them than the analysed pattern.
   bool gather_values(const SpMat& a);
+  // Whether MUMPS takes entry (row, col): all of them for the LU, the lower triangle for LDL^T.
+  bool takes(Eigen::Index row, Eigen::Index col) const { return options_.unsymmetric || row >= col; }
   std::vector<int> perm_in_;  // PERM_IN (1-based), the inverse of the pivot order
   Eigen::Index n_ = -1, matrix_nonzeros_ = -1;
   mutable typename Arithmetic::Struct id_{};
@@ -177,11 +180,18 @@ void MumpsSolver<Arithmetic>::analyze(const SpMat& a) {
     start();
     hand_back_freed_memory();
   }
-  rows_.clear();
-  cols_.clear();
+  // The last pattern's arrays go before the new ones are sized to their entries.
+  release_storage(rows_);
+  release_storage(cols_);
+  release_storage(values_);
+  std::size_t entries = 0;
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j)
+    for (SpMat::InnerIterator it(a, j); it; ++it) entries += takes(it.row(), j);
+  rows_.reserve(entries);
+  cols_.reserve(entries);
   for (Eigen::Index j = 0; j < a.outerSize(); ++j)
     for (SpMat::InnerIterator it(a, j); it; ++it)
-      if (options_.unsymmetric || it.row() >= j) {
+      if (takes(it.row(), j)) {
         rows_.push_back(static_cast<int>(it.row()) + 1);
         cols_.push_back(static_cast<int>(j) + 1);
       }
@@ -217,7 +227,7 @@ bool MumpsSolver<Arithmetic>::gather_values(const SpMat& a) {
   size_t k = 0;
   for (Eigen::Index j = 0; j < a.outerSize(); ++j)
     for (SpMat::InnerIterator it(a, j); it; ++it)
-      if ((options_.unsymmetric || it.row() >= j) && k++ < values_.size()) values_[k - 1] = static_cast<Real>(it.value());
+      if (takes(it.row(), j) && k++ < values_.size()) values_[k - 1] = static_cast<Real>(it.value());
   return k == values_.size();
 }
 

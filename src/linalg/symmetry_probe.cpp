@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/system_memory.hpp"
+
 namespace fibrane::solve {
 
 // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
 // without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
-  std::vector<int>().swap(mirror_);  // the last pattern's map goes before the new one is built
+  release_storage(mirror_);  // the last pattern's map goes before the new one is built
   structurally_symmetric_ = false;
   if (a.rows() != a.cols() || !a.isCompressed()) return;
   const int* outer = a.outerIndexPtr();

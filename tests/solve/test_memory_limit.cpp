@@ -3,8 +3,12 @@
 // it gives the unlimited factorisation's solution. The limits below are far below the factors (a few MB
 // against tens of MB) or far above them, so the tests do not depend on this machine's free memory.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cstdint>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include "common/system_memory.hpp"
 #include "grid_matrix.hpp"
@@ -52,6 +56,33 @@ long summary_megabytes(const LinearSolver& solver) {
 // allocates (INFOG(1) = -19). The automatic limit and a generous one leave MUMPS its own sizing; a limit
 // at the analysis's estimate, below its margin of a tenth, makes MUMPS work within it (ICNTL(23)). Each
 // gives the unlimited factorisation's solution to the last bits (the same pivots).
+// Resident pages of this process (/proc/self/statm), in bytes.
+double resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  double size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
+}
+
+// release_pages hands a buffer's whole pages back while the buffer stays allocated: the resident set
+// shrinks by about its size (64 MB; at least 56 MB, since other allocations of the test process may
+// fault in pages meanwhile), the pages read as zeros afterwards, and the first and last 4 KiB (the
+// allocator's records next to them) keep their contents.
+TEST(MemoryLimit, ReleasedPagesLeaveTheResidentSet) {
+  const std::size_t bytes = std::size_t(64) << 20;
+  std::vector<std::uint8_t> buffer(bytes, 7);
+  const double before = resident_bytes();
+  release_pages(buffer.data(), bytes);
+  const double after = resident_bytes();
+  EXPECT_GT(before - after, 56.0 * (1 << 20));
+  EXPECT_EQ(buffer.front(), 7);
+  EXPECT_EQ(buffer[4095], 7);
+  EXPECT_EQ(buffer.back(), 7);
+  EXPECT_EQ(buffer[bytes / 2], 0);
+  release_storage(buffer);
+  EXPECT_EQ(buffer.capacity(), 0u);
+}
+
 TEST(MemoryLimit, MumpsStopsAtItsLimitAndSolvesWithinIt) {
   if (!mumps_available()) GTEST_SKIP() << "built without MUMPS";
   const SpMat& a = spd_matrix();
