@@ -5,7 +5,8 @@
 
 #include "common/system_memory.hpp"
 
-namespace fibrane::solve {
+// In namespace fibrane beside the std::vector overload, so that both are found wherever either is.
+namespace fibrane {
 
 // Empties m and frees its storage, the pages of its values and row indices handed back first.
 inline void release_storage(Eigen::SparseMatrix<double>& m) {
@@ -14,4 +15,4 @@ inline void release_storage(Eigen::SparseMatrix<double>& m) {
   m = Eigen::SparseMatrix<double>();
 }
 
-}  // namespace fibrane::solve
+}  // namespace fibrane
