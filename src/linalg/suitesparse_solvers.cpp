@@ -4,7 +4,9 @@
 
 #include <cmath>
 #include <string>
+#include <type_traits>
 
+#include "linalg/cholmod_permuted_lower.hpp"
 #include "linalg/direct_solvers.hpp"
 
 namespace fibrane::solve {
@@ -16,7 +18,19 @@ using SpMat = Eigen::SparseMatrix<double>;
 template <class Factorization>
 struct ReadableFactor : Factorization {
   cholmod_factor* factor() const { return this->m_cholmodFactor; }
+  // The supernodal numeric factorisation of s, the permuted lower triangle that cholmod_factorize would
+  // build (CholmodPermutedLower), with the state Eigen's factorize() leaves.
+  void factorize_permuted(cholmod_sparse* s) {
+    cholmod_factor* f = this->m_cholmodFactor;
+    const int ok = cholmod_super_numeric(s, nullptr, this->m_shiftOffset, f, &this->cholmod());
+    this->m_info = ok && this->cholmod().status >= CHOLMOD_OK && f->minor == f->n ? Eigen::Success
+                                                                                   : Eigen::NumericalIssue;
+    this->m_factorizationIsOk = true;
+  }
 };
+
+template <class Factorization>
+constexpr bool kSupernodal = std::is_same_v<Factorization, Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower>>;
 
 // Negative entries of D in a simplicial LDL^T factor. CHOLMOD stores the factor column by column
 // (cholmod_factor: p = column starts, x = values); in a simplicial LDL^T factor (is_ll = 0,
@@ -52,6 +66,7 @@ class CholmodSolver final : public LinearSolver {
       common.nmethods = 1;
       common.method[0].ordering = chosen_;
     }
+    permuted_.clear();
     fact_.analyzePattern(a);  // frees the last factor
     hand_back_freed_memory();
     if (chosen_ < 0 && fact_.info() == Eigen::Success) chosen_ = common.method[common.selected].ordering;
@@ -63,7 +78,7 @@ class CholmodSolver final : public LinearSolver {
     refusal_ = memory_refusal();
     if (!refusal_.empty()) return false;
     const BlasThreadsForFactor threads(static_cast<long>(fact_.cholmod().lnz));
-    fact_.factorize(a);
+    factorize_values(a);
     const bool ok = fact_.info() == Eigen::Success;
     negative_ = ok ? negative_pivots(*fact_.factor()) : -1;
     return ok;
@@ -90,6 +105,7 @@ class CholmodSolver final : public LinearSolver {
     auto* f = fact_.factor();
     if (!f || f->xtype == CHOLMOD_PATTERN) return;
     cholmod_change_factor(CHOLMOD_PATTERN, f->is_ll, f->is_super, true, true, f, &fact_.cholmod());
+    permuted_.release_values();
     negative_ = -1;
   }
   long held_factor_entries() const override {
@@ -120,7 +136,21 @@ class CholmodSolver final : public LinearSolver {
   }
 
  private:
+  // The supernodal LL^T of a's values from the kept permuted lower triangle; cholmod_factorize's own path
+  // for the simplicial LDL^T, for a matrix not compressed, or where the copy cannot be built.
+  void factorize_values(const SpMat& a) {
+    if constexpr (kSupernodal<Factorization>) {
+      if (a.isCompressed() && (permuted_.built() || permuted_.build(a, *fact_.factor(), fact_.cholmod()))) {
+        fact_.factorize_permuted(permuted_.fill(a));
+        permuted_.drop_values();
+        return;
+      }
+    }
+    fact_.factorize(a);
+  }
+
   mutable ReadableFactor<Factorization> fact_;
+  CholmodPermutedLower permuted_;  // the supernodal factorisation's input, kept for the analysis's pattern
   std::string name_;
   int chosen_ = -1;  // the ordering method of the first analysis (CHOLMOD_AMD, CHOLMOD_METIS, ...)
   int analyses_ = 0;

@@ -1,0 +1,46 @@
+#pragma once
+// The matrix that CHOLMOD's supernodal numeric factorisation reads, kept from one factorisation to the next.
+#include <cholmod.h>
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+namespace fibrane::solve {
+
+/// The lower triangle of P A P^T in compressed columns, where A is a symmetric matrix given by its lower
+/// triangle and P the fill-reducing permutation of a CHOLMOD factor (cholmod_factor::Perm).
+///
+/// cholmod_super_numeric factorises exactly this matrix. cholmod_factorize builds it anew for every
+/// factorisation, by two permuted transposes of the lower triangle, each a scatter of all of A's entries. As
+/// A's pattern stays between analyses, this class builds the pattern once, with the source of each entry in
+/// A's value array, and each factorisation only gathers the values (`fill`). The entries and their order are
+/// the ones cholmod_factorize builds (the same CHOLMOD routines make the pattern), so the factor is the same
+/// to the last bit.
+class CholmodPermutedLower {
+ public:
+  /// Builds the pattern and the source map for the lower triangle `lower` (its pattern) and the permutation
+  /// of `factor`; returns false where CHOLMOD runs out of memory (status in `common`).
+  bool build(const Eigen::SparseMatrix<double>& lower, const cholmod_factor& factor, cholmod_common& common);
+  /// Whether build() has run since the last clear().
+  bool built() const { return !source_.empty(); }
+  /// The permuted lower triangle with the values of `lower`, which must have the pattern given to build().
+  /// The view stays valid until the next fill(), drop_values(), release_values() or clear().
+  cholmod_sparse* fill(const Eigen::SparseMatrix<double>& lower);
+  /// Frees the values (the pattern and the map stay for the next fill()), leaving their memory to the
+  /// allocator for what runs between factorisations (the assembly) and for the next fill().
+  void drop_values();
+  /// Frees the values and hands their pages back to the system (the pattern and the map stay).
+  void release_values();
+  /// Frees everything.
+  void clear();
+  /// Entries of the pattern.
+  long entries() const { return static_cast<long>(source_.size()); }
+
+ private:
+  std::vector<int> column_starts_, rows_;
+  std::vector<int> source_;  // source_[k]: the index in the lower triangle's values of entry k
+  std::vector<double> values_;
+  cholmod_sparse view_{};
+};
+
+}  // namespace fibrane::solve
