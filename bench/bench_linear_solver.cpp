@@ -3,7 +3,9 @@
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
 //                       [--rounds R] [--state DIR]
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
-// the case, i.e. with the symmetry probe for a model with point moments), "symmetric-auto" (the symmetric
+// the case, i.e. with the symmetry probe for a model with point moments), cholmod-split / cholmod-whole (CHOLMOD's LL^T
+// in two halves at METIS's separator where the matrix is large enough, as "cholmod" has it / always whole),
+// "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
 // gives it to MUMPS), mumps-c[-lu][-single][-blr][-ooc] (CHOLMOD's ordering; LU; single precision; block
@@ -32,6 +34,7 @@
 
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
+#include "linalg/cholmod_split.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/linear_solver.hpp"
 #include "linalg/symmetry_probe.hpp"
@@ -109,6 +112,8 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
     options.pivot_order = fibrane::solve::cholmod_pivot_order(*llt);
     return fibrane::solve::make_mumps(options);
   }
+  if (kind == "cholmod-split") return fibrane::solve::make_cholmod_split_llt();
+  if (kind == "cholmod-whole") return fibrane::solve::make_cholmod_llt();
   if (kind == "symmetric-auto") return fibrane::solve::make_linear_solver(case_settings.kind, true);
   if (kind == "auto") return fibrane::solve::make_linear_solver(case_settings.kind, symmetric);
   return fibrane::solve::make_linear_solver(kind, true);

@@ -75,7 +75,7 @@ std::string read_out_of_core(const io::YamlNode& node) {
   return directory;
 }
 
-// steps.solver, precision, low_rank, out_of_core and krylov (a map, or true for its defaults).
+// steps.solver, precision, low_rank, out_of_core, split and krylov (a map, or true for its defaults).
 void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& node) {
   if (node.has("solver"))
     ls.kind = node["solver"].as_choice({"auto", "cholmod", "ldlt", "mumps", "mumps-lu", "umfpack", "umfpack64"});
@@ -93,6 +93,11 @@ void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& nod
     }
   }
   if (auto o = node.optional("out_of_core")) ls.out_of_core_directory = read_out_of_core(*o);
+  if (auto v = node.optional("split")) {
+    ls.split = v->as_bool();
+    if (ls.split && ls.kind != "auto" && ls.kind != "cholmod")
+      v->fail_message("split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not " + ls.kind);
+  }
   const bool mumps_only = ls.precision == "single" || ls.low_rank > 0 || !ls.out_of_core_directory.empty();
   if (mumps_only && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu")) {
     const char* key = node.has("precision") ? "precision" : node.has("low_rank") ? "low_rank" : "out_of_core";

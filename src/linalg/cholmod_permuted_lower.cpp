@@ -63,10 +63,13 @@ bool CholmodPermutedLower::build(const Eigen::SparseMatrix<double>& lower, const
   return true;
 }
 
-cholmod_sparse* CholmodPermutedLower::fill(const Eigen::SparseMatrix<double>& lower) {
+void CholmodPermutedLower::map_through(const std::vector<int>& outer) {
+  for (int& s : source_) s = outer[static_cast<std::size_t>(s)];
+}
+
+cholmod_sparse* CholmodPermutedLower::fill(const double* from) {
   const long nnz = entries();
   values_.resize(static_cast<std::size_t>(nnz));
-  const double* from = lower.valuePtr();
   double* to = values_.data();
   const int* source = source_.data();
 #pragma omp parallel for schedule(static)

@@ -25,7 +25,12 @@ class CholmodPermutedLower {
   bool built() const { return !source_.empty(); }
   /// The permuted lower triangle with the values of `lower`, which must have the pattern given to build().
   /// The view stays valid until the next fill(), drop_values(), release_values() or clear().
-  cholmod_sparse* fill(const Eigen::SparseMatrix<double>& lower);
+  cholmod_sparse* fill(const Eigen::SparseMatrix<double>& lower) { return fill(lower.valuePtr()); }
+  /// The same from a value array that map_through() has made the sources point into.
+  cholmod_sparse* fill(const double* values);
+  /// Makes the sources indices into another array: source[k] becomes outer[source[k]] (for a matrix whose
+  /// entries are a subset of a larger one's, `outer` their indices there).
+  void map_through(const std::vector<int>& outer);
   /// Frees the values (the pattern and the map stay for the next fill()), leaving their memory to the
   /// allocator for what runs between factorisations (the assembly) and for the next fill().
   void drop_values();

@@ -12,6 +12,7 @@
 
 #include "common/error.hpp"
 #include "common/system_memory.hpp"
+#include "linalg/cholmod_split.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/krylov_reuse.hpp"
 #include "linalg/release_storage.hpp"
@@ -63,9 +64,10 @@ using SpMat = Eigen::SparseMatrix<double>;
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
+  explicit AutoSolver(bool split) : split_(split) {}
   void analyze(const SpMat& a) override {
     fallback_.reset();  // first, so that llt_'s hand-back (direct_solvers.hpp) includes its factor
-    if (!llt_) llt_ = make_cholmod_llt();
+    if (!llt_) llt_ = split_ ? make_cholmod_split_llt() : make_cholmod_llt();
     llt_->analyze(a);
     current_ = llt_.get();
   }
@@ -107,6 +109,7 @@ class AutoSolver final : public LinearSolver {
   }
 
  private:
+  bool split_;  // the LL^T in two halves (cholmod_split.hpp)
   bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
       if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_), .out_of_core_directory = {}});
@@ -264,7 +267,7 @@ std::unique_ptr<LinearSolver> make_lu(MumpsOptions options) {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric) {
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split) {
   if (kind == "umfpack") return make_umfpack();
   if (kind == "umfpack64") return make_umfpack(true);
   if (kind == "mumps-lu") {
@@ -273,14 +276,14 @@ std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool s
   }
   if (kind == "auto") {
     if (!symmetric)
-      return std::make_unique<SymmetryProbingSolver>([] { return std::make_unique<AutoSolver>(); },
+      return std::make_unique<SymmetryProbingSolver>([split] { return std::make_unique<AutoSolver>(split); },
                                                      [] { return make_lu({}); });
-    return std::make_unique<AutoSolver>();
+    return std::make_unique<AutoSolver>(split);
   }
   if (kind == "cholmod" || kind == "ldlt" || kind == "mumps") {
     if (!symmetric)
       throw InputError("linear solver '" + kind + "' needs a symmetric matrix; use 'auto', 'mumps-lu' or 'umfpack'");
-    if (kind == "cholmod") return make_cholmod_llt();
+    if (kind == "cholmod") return split ? make_cholmod_split_llt() : make_cholmod_llt();
     if (kind == "ldlt") return make_cholmod_ldlt();
     if (!mumps_available()) throw InputError("linear solver 'mumps': this fibrane was built without MUMPS");
     return make_mumps();
@@ -296,7 +299,7 @@ namespace {
 std::unique_ptr<LinearSolver> make_direct(const LinearSolverSettings& settings, bool symmetric, bool approximate) {
   const bool out_of_core = !settings.out_of_core_directory.empty();
   if (!approximate && !out_of_core)
-    return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric);
+    return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric, settings.split);
   const std::string what = !approximate ? "out_of_core" : settings.low_rank > 0 ? "low_rank" : "precision: single";
   if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
   MumpsOptions o;

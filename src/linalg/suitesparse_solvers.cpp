@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "linalg/cholmod_permuted_lower.hpp"
+#include "linalg/cholmod_split.hpp"
 #include "linalg/direct_solvers.hpp"
 
 namespace fibrane::solve {
@@ -229,6 +230,7 @@ std::unique_ptr<LinearSolver> make_cholmod_ldlt(long memory_limit_megabytes) {
 }
 
 std::vector<int> cholmod_pivot_order(const LinearSolver& solver) {
+  if (std::vector<int> order = cholmod_split_pivot_order(solver); !order.empty()) return order;
   if (const auto* llt = dynamic_cast<const CholmodLLT*>(&solver)) return llt->pivot_order();
   if (const auto* ldlt = dynamic_cast<const CholmodLDLT*>(&solver)) return ldlt->pivot_order();
   return {};

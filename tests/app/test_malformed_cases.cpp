@@ -66,6 +66,8 @@ const Malformed cases[] = {
     {"out_of_core_with_cholmod", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: cholmod, out_of_core: true}",
      "steps.out_of_core: single-precision, low-rank and out-of-core factorisations are MUMPS's: they need solver "
      "auto, mumps or mumps-lu, not cholmod"},
+    {"split_with_mumps", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: mumps, split: true}",
+     "steps.split: split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not mumps"},
     {"out_of_core_missing_directory", "steps: {dt: 0.5}", "steps: {dt: 0.5, out_of_core: /nonexistent/factor-files}",
      "steps.out_of_core: the directory '/nonexistent/factor-files' for the out-of-core factor files does not exist"},
     {"vector_of_two", "origin: [0, 0, 0]", "origin: [0, 0]",
