@@ -7,10 +7,7 @@
 #include "common/system_memory.hpp"
 
 namespace fibrane::solve {
-namespace {
-
-// A CHOLMOD view (no copy) of a compressed lower triangle with the given values (of its length).
-cholmod_sparse lower_view(const Eigen::SparseMatrix<double>& lower, double* values) {
+cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, double* values) {
   cholmod_sparse v{};
   v.nrow = static_cast<size_t>(lower.rows());
   v.ncol = static_cast<size_t>(lower.cols());
@@ -20,14 +17,12 @@ cholmod_sparse lower_view(const Eigen::SparseMatrix<double>& lower, double* valu
   v.x = values;
   v.stype = -1;  // only the lower triangle is read, as Eigen's CholmodSupernodalLLT<..., Lower> has it
   v.itype = CHOLMOD_INT;
-  v.xtype = CHOLMOD_REAL;
+  v.xtype = values ? CHOLMOD_REAL : CHOLMOD_PATTERN;
   v.dtype = CHOLMOD_DOUBLE;
   v.sorted = 1;
   v.packed = 1;
   return v;
 }
-
-}  // namespace
 
 bool CholmodPermutedLower::build(const Eigen::SparseMatrix<double>& lower, const cholmod_factor& factor,
                                  cholmod_common& common) {
@@ -37,7 +32,7 @@ bool CholmodPermutedLower::build(const Eigen::SparseMatrix<double>& lower, const
   // upper = triu(P A P^T), then its transpose.
   std::vector<double> index(static_cast<std::size_t>(lower.nonZeros()));
   std::iota(index.begin(), index.end(), 0.0);
-  cholmod_sparse a = lower_view(lower, index.data());
+  cholmod_sparse a = cholmod_lower_view(lower, index.data());
   cholmod_sparse* upper = cholmod_ptranspose(&a, 2, static_cast<int*>(factor.Perm), nullptr, 0, &common);
   release_storage(index);
   if (!upper) return false;

@@ -7,6 +7,10 @@
 
 namespace fibrane::solve {
 
+/// A CHOLMOD view (no copy) of a compressed matrix whose lower triangle CHOLMOD is to read (stype -1), with
+/// `values` as its values (of its length), or its pattern alone where `values` is null.
+cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, double* values);
+
 /// The lower triangle of P A P^T in compressed columns, where A is a symmetric matrix given by its lower
 /// triangle and P the fill-reducing permutation of a CHOLMOD factor (cholmod_factor::Perm).
 ///

@@ -29,23 +29,6 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// A CHOLMOD view of a compressed lower triangle's pattern.
-cholmod_sparse pattern_view(const SpMat& lower) {
-  cholmod_sparse v{};
-  v.nrow = static_cast<size_t>(lower.rows());
-  v.ncol = static_cast<size_t>(lower.cols());
-  v.nzmax = static_cast<size_t>(lower.nonZeros());
-  v.p = const_cast<int*>(lower.outerIndexPtr());
-  v.i = const_cast<int*>(lower.innerIndexPtr());
-  v.stype = -1;
-  v.itype = CHOLMOD_INT;
-  v.xtype = CHOLMOD_PATTERN;
-  v.dtype = CHOLMOD_DOUBLE;
-  v.sorted = 1;
-  v.packed = 1;
-  return v;
-}
-
 // One half: its interior and the separator, with its own CHOLMOD workspace (the halves run on two threads).
 struct Half {
   std::vector<int> rows;  // the whole matrix's rows of the half's rows: the interior, then the separator
@@ -104,7 +87,7 @@ bool analyse(Half& h, const SpMat& a) {
   // flops at the paper mesh.
   std::vector<int> order(static_cast<std::size_t>(h.size())), member(order.size(), 0);
   std::fill(member.begin() + h.interior, member.end(), 1);
-  cholmod_sparse hv = pattern_view(h.lower);
+  cholmod_sparse hv = cholmod_lower_view(h.lower, nullptr);
   if (!cholmod_camd(&hv, nullptr, 0, member.data(), order.data(), &h.common)) return false;
   h.common.nmethods = 1;
   h.common.method[0].ordering = CHOLMOD_GIVEN;
@@ -304,7 +287,7 @@ class CholmodSplitSolver final : public LinearSolver {
     cholmod_common common;
     cholmod_start(&common);
     common.print = 0;
-    cholmod_sparse v = pattern_view(a);
+    cholmod_sparse v = cholmod_lower_view(a, nullptr);
     const long s = cholmod_bisect(&v, nullptr, 0, 1, partition.data(), &common);
     cholmod_finish(&common);
     if (s <= 0 || s > options_.max_separator) return false;

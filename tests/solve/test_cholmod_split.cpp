@@ -111,29 +111,27 @@ TEST(CholmodSplit, ThePivotOrderIsAPermutation) {
   EXPECT_EQ(order, identity);
 }
 
+// The solver factorises spd(1) whole: no separator, and the whole factorisation's solution to the last bit.
+void expect_factorised_whole(LinearSolver& solver) {
+  const SpMat a = spd(1);
+  solver.analyze(a);
+  EXPECT_EQ(cholmod_split_separator(solver), 0);
+  EXPECT_EQ(solver.analysis_summary().find("two halves"), std::string::npos);
+  ASSERT_TRUE(solver.factorize(a));
+  const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
+  EXPECT_EQ((solver.solve(b) - whole_solve(a, b)).cwiseAbs().maxCoeff(), 0.0);
+}
+
 TEST(CholmodSplit, SmallMatricesAreFactorisedWhole) {
   omp_set_num_threads(2);
-  auto solver = make_cholmod_split_llt();  // from 100 000 unknowns on
-  const SpMat a = spd(1);
-  solver->analyze(a);
-  EXPECT_EQ(cholmod_split_separator(*solver), 0);
-  ASSERT_TRUE(solver->factorize(a));
-  const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
-  EXPECT_EQ((solver->solve(b) - whole_solve(a, b)).cwiseAbs().maxCoeff(), 0.0);
+  expect_factorised_whole(*make_cholmod_split_llt());  // from 100 000 unknowns on
 }
 
 TEST(CholmodSplit, AHalfWithMostOfTheWorkLeavesTheMatrixWhole) {
   omp_set_num_threads(2);
   // No split gives a half less than half of the flops: every matrix is factorised whole.
-  auto solver = make_cholmod_split_llt({.memory_limit_megabytes = kAvailableMemory, .min_unknowns = 1000,
-                                        .max_separator = 5000, .max_work_share = 0.49});
-  const SpMat a = spd(1);
-  solver->analyze(a);
-  EXPECT_EQ(cholmod_split_separator(*solver), 0);
-  ASSERT_TRUE(solver->factorize(a));
-  const Eigen::VectorXd b = Eigen::VectorXd::Ones(a.rows());
-  EXPECT_EQ((solver->solve(b) - whole_solve(a, b)).cwiseAbs().maxCoeff(), 0.0);
-  EXPECT_EQ(solver->analysis_summary().find("two halves"), std::string::npos);
+  expect_factorised_whole(*make_cholmod_split_llt({.memory_limit_megabytes = kAvailableMemory, .min_unknowns = 1000,
+                                                   .max_separator = 5000, .max_work_share = 0.49}));
 }
 
 // The chain of "auto" at 100 489 unknowns: the split LL^T refuses an indefinite Laplacian, MUMPS's LDL^T
