@@ -3,8 +3,8 @@
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
 //                       [--rounds R] [--state DIR]
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
-// the case, i.e. with the symmetry probe for a model with point moments), cholmod-split / cholmod-whole (CHOLMOD's LL^T
-// in two halves at METIS's separator where the matrix is large enough, as "cholmod" has it / always whole),
+// the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in two halves
+// at METIS's separator where the matrix is large enough, as steps.split makes it), cholmod-whole (= cholmod),
 // "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
