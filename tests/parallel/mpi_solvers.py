@@ -40,8 +40,10 @@ SOLVER_NAMES = {"krylov": "petsc-gmres(mumps-ldlt)", "low_rank": "petsc-gmres(mu
 
 
 def with_steps(text, lines):
-    """The case text with `lines` added to its steps and modified Newton's reuse removed (it excludes both)."""
+    """The case text with `lines` added to its steps, modified Newton's reuse removed (it excludes both) and
+    the split Cholesky removed (a key of solver auto and cholmod, which one variant replaces)."""
     text = re.sub(r"\n  reuse_factorization: [^\n]*", "", text)
+    text = re.sub(r"\n  split: [^\n]*", "", text)
     return text.replace("\nsteps:\n", "\nsteps:\n" + lines, 1)
 
 
