@@ -82,9 +82,9 @@ bool analyse(Half& h, const SpMat& a) {
   h.lower = sub_lower(a, h.rows);
   h.source.resize(static_cast<std::size_t>(h.lower.nonZeros()));
   for (std::size_t q = 0; q < h.source.size(); ++q) h.source[q] = static_cast<int>(h.lower.valuePtr()[q]);
-  // CAMD's constrained minimum degree (the separator a constraint set after the interior): METIS's order
-  // of the interior alone, or of the whole half with the separator moved last, gave 3 % and 21 % more
-  // flops at the paper mesh.
+  // CAMD's constrained minimum degree (the separator a constraint set after the interior), which needed
+  // fewer flops than METIS's order of the interior alone or of the whole half with the separator moved
+  // last (docs/performance.md, "The factorisation's input").
   std::vector<int> order(static_cast<std::size_t>(h.size())), member(order.size(), 0);
   std::fill(member.begin() + h.interior, member.end(), 1);
   cholmod_sparse hv = cholmod_lower_view(h.lower, nullptr);
@@ -306,9 +306,9 @@ class CholmodSplitSolver final : public LinearSolver {
 #pragma omp parallel for num_threads(2) schedule(static, 1)
     for (int k = 0; k < 2; ++k) ok[k] = analyse(*halves_[k], a);
     if (!ok[0] || !ok[1]) return false;
-    // Side by side, the half with more work sets the time: where it holds most of the work (at the 278 k
-    // membrane after the fiber wraps it, 121 against 80 GFlop), the whole factorisation is as fast and
-    // stops earlier on an indefinite matrix.
+    // Side by side, the half with more work sets the time: where it holds most of the work (the fiber's
+    // soft windows in one half), the whole factorisation is as fast and stops earlier on an indefinite
+    // matrix (docs/performance.md).
     const double larger = std::max(halves_[0]->flops, halves_[1]->flops);
     return larger <= options_.max_work_share * (halves_[0]->flops + halves_[1]->flops);
   }

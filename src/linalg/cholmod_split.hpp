@@ -17,8 +17,8 @@ namespace fibrane::solve {
 /// T x_S = b_S + sum_k C_k v_k, and back through both halves with C_k^T x_S in the separator's place.
 ///
 /// CHOLMOD's supernodal code factorises one supernode at a time, its parallelism only within the BLAS
-/// calls; on two cores the halves side by side take about half the time (docs/performance.md, "The
-/// factorisation's input"). Matrices below `min_unknowns`, a single thread, or a split that does not
+/// calls, where a second core adds little; the halves side by side keep two cores busy (docs/performance.md,
+/// "The factorisation's input"). Matrices below `min_unknowns`, a single thread, or a split that does not
 /// serve (a separator above `max_separator`, a half below a fifth of the unknowns, one half with more than
 /// `max_work_share` of the flops, CHOLMOD's ordering not keeping S last) are factorised whole by
 /// make_cholmod_llt's solver. The name is "cholmod" either way.
