@@ -33,7 +33,7 @@ using SpMat = Eigen::SparseMatrix<double>;
 struct Half {
   std::vector<int> rows;  // the whole matrix's rows of the half's rows: the interior, then the separator
   int interior = 0;
-  SpMat lower;                   // the half's lower triangle (values: the entries' indices in the whole)
+  SpMat lower;                   // the half's lower triangle (its pattern)
   std::vector<int> source;       // source[q]: the index in the whole matrix's values of lower's entry q
   CholmodPermutedLower permuted;  // the permuted lower triangle, its source mapped into the whole
   cholmod_common common{};
@@ -57,31 +57,58 @@ struct Half {
   int size() const { return static_cast<int>(rows.size()); }
 };
 
-// The lower triangle of a's rows and columns `rows` (in that order), entries valued by their index in a.
-SpMat sub_lower(const SpMat& a, const std::vector<int>& rows) {
+// The lower triangle of a's rows and columns `rows` (in that order), its values left zero; source[q] is the
+// index in a's values of its entry q. Two counting sorts (the entries by row, then by column in the order of
+// their rows) leave every column's rows sorted.
+SpMat sub_lower(const SpMat& a, const std::vector<int>& rows, std::vector<int>& source) {
+  const int n = static_cast<int>(rows.size());
   std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
-  for (std::size_t i = 0; i < rows.size(); ++i) local[static_cast<std::size_t>(rows[i])] = static_cast<int>(i);
-  std::vector<Eigen::Triplet<double>> t;
-  for (int j = 0; j < a.cols(); ++j) {
-    const int lj = local[static_cast<std::size_t>(j)];
-    if (lj < 0) continue;
-    for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
-      const int i = a.innerIndexPtr()[p], li = local[static_cast<std::size_t>(i)];
-      if (i < j || li < 0) continue;  // the lower triangle only
-      t.emplace_back(std::max(li, lj), std::min(li, lj), static_cast<double>(p));
+  for (int i = 0; i < n; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  auto for_each_entry = [&](auto&& visit) {  // visit(local row, local column, index in a), row >= column
+    for (int j = 0; j < a.cols(); ++j) {
+      const int lj = local[static_cast<std::size_t>(j)];
+      if (lj < 0) continue;
+      for (int p = outer[j]; p < outer[j + 1]; ++p) {
+        const int i = inner[p], li = local[static_cast<std::size_t>(i)];
+        if (i >= j && li >= 0) visit(std::max(li, lj), std::min(li, lj), p);  // a's lower triangle
+      }
     }
-  }
-  SpMat s(static_cast<Eigen::Index>(rows.size()), static_cast<Eigen::Index>(rows.size()));
-  s.setFromTriplets(t.begin(), t.end());
+  };
+  std::vector<int> row_start(static_cast<std::size_t>(n) + 1, 0);
+  for_each_entry([&](int r, int, int) { ++row_start[static_cast<std::size_t>(r) + 1]; });
+  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
+  const auto entries = static_cast<std::size_t>(row_start.back());
+  std::vector<int> next(row_start.begin(), row_start.end() - 1), row_column(entries), row_source(entries);
+  for_each_entry([&](int r, int c, int p) {
+    const auto k = static_cast<std::size_t>(next[static_cast<std::size_t>(r)]++);
+    row_column[k] = c;
+    row_source[k] = p;
+  });
+  SpMat s(n, n);
+  s.resizeNonZeros(static_cast<Eigen::Index>(entries));
+  int* column_start = s.outerIndexPtr();
+  std::fill(column_start, column_start + n + 1, 0);
+  for (const int c : row_column) ++column_start[c + 1];
+  std::partial_sum(column_start, column_start + n + 1, column_start);
+  next.assign(column_start, column_start + n);
+  source.resize(entries);
+  for (int r = 0; r < n; ++r)
+    for (auto k = static_cast<std::size_t>(row_start[static_cast<std::size_t>(r)]);
+         k < static_cast<std::size_t>(row_start[static_cast<std::size_t>(r) + 1]); ++k) {
+      const auto q = static_cast<std::size_t>(next[static_cast<std::size_t>(row_column[k])]++);
+      s.innerIndexPtr()[q] = r;
+      source[q] = row_source[k];
+    }
+  std::fill(s.valuePtr(), s.valuePtr() + entries, 0.0);
   return s;
 }
 
 // Analyses a half with its interior in CHOLMOD's fill-reducing order and the separator after it, as given;
 // false where CHOLMOD fails or its factor does not keep the separator last.
 bool analyse(Half& h, const SpMat& a) {
-  h.lower = sub_lower(a, h.rows);
-  h.source.resize(static_cast<std::size_t>(h.lower.nonZeros()));
-  for (std::size_t q = 0; q < h.source.size(); ++q) h.source[q] = static_cast<int>(h.lower.valuePtr()[q]);
+  h.lower = sub_lower(a, h.rows, h.source);
   // CAMD's constrained minimum degree (the separator a constraint set after the interior), which needed
   // fewer flops than METIS's order of the interior alone or of the whole half with the separator moved
   // last (docs/performance.md, "The factorisation's input").
@@ -283,18 +310,23 @@ class CholmodSplitSolver final : public LinearSolver {
  private:
   // METIS's node bisector of a's graph and the analyses of both halves; false where the split does not serve.
   bool split(const SpMat& a) {
-    std::vector<int> partition(static_cast<std::size_t>(a.rows()));
-    cholmod_common common;
-    cholmod_start(&common);
-    common.print = 0;
-    cholmod_sparse v = cholmod_lower_view(a, nullptr);
-    const long s = cholmod_bisect(&v, nullptr, 0, 1, partition.data(), &common);
-    cholmod_finish(&common);
-    if (s <= 0 || s > options_.max_separator) return false;
+    if (!separates(a)) {
+      partition_.assign(static_cast<std::size_t>(a.rows()), 0);
+      cholmod_common common;
+      cholmod_start(&common);
+      common.print = 0;
+      cholmod_sparse v = cholmod_lower_view(a, nullptr);
+      const long s = cholmod_bisect(&v, nullptr, 0, 1, partition_.data(), &common);
+      cholmod_finish(&common);
+      if (s <= 0 || s > options_.max_separator) {
+        partition_.clear();
+        return false;
+      }
+    }
     separator_.clear();
     for (int k = 0; k < 2; ++k) halves_[k] = std::make_unique<Half>();
     for (int i = 0; i < a.rows(); ++i) {
-      const int part = partition[static_cast<std::size_t>(i)];
+      const int part = partition_[static_cast<std::size_t>(i)];
       (part == 2 ? separator_ : halves_[part]->rows).push_back(i);
     }
     for (auto& h : halves_) {
@@ -306,11 +338,24 @@ class CholmodSplitSolver final : public LinearSolver {
 #pragma omp parallel for num_threads(2) schedule(static, 1)
     for (int k = 0; k < 2; ++k) ok[k] = analyse(*halves_[k], a);
     if (!ok[0] || !ok[1]) return false;
-    // Side by side, the half with more work sets the time: where it holds most of the work (the fiber's
-    // soft windows in one half), the whole factorisation is as fast and stops earlier on an indefinite
-    // matrix (docs/performance.md).
+    // Side by side, the half with more work sets the time, on one core, where the whole factorisation runs
+    // on two at little more than one core's speed: the split pays until one half holds nearly all the work
+    // (docs/performance.md, "The factorisation's input").
     const double larger = std::max(halves_[0]->flops, halves_[1]->flops);
     return larger <= options_.max_work_share * (halves_[0]->flops + halves_[1]->flops);
+  }
+  // Whether the last bisection still separates a's graph (no entry joins the two interiors): a new pattern
+  // of the same model differs from the last one by the coupling's entries, which mostly stay within a half.
+  // METIS's bisection is then kept, and the halves are only analysed anew.
+  bool separates(const SpMat& a) const {
+    if (partition_.size() != static_cast<std::size_t>(a.rows())) return false;
+    for (int j = 0; j < a.cols(); ++j) {
+      const int pj = partition_[static_cast<std::size_t>(j)];
+      if (pj == 2) continue;
+      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p)
+        if (partition_[static_cast<std::size_t>(a.innerIndexPtr()[p])] == 1 - pj) return false;
+    }
+    return true;
   }
   // T = C_0 C_0^T + C_1 C_1^T - K_SS and its LL^T (LAPACK, the configured BLAS threads); false where T is
   // not positive definite.
@@ -343,6 +388,7 @@ class CholmodSplitSolver final : public LinearSolver {
   CholmodSplitOptions options_;
   bool split_ = false, factored_ = false;
   std::array<std::unique_ptr<Half>, 2> halves_;
+  std::vector<int> partition_;  // of the last bisection: 0 or 1, the half of each row; 2 the separator
   std::vector<int> separator_;
   Eigen::MatrixXd t_;  // the separator's Schur complement's LL^T factor (lower)
   std::unique_ptr<LinearSolver> whole_;

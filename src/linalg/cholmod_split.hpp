@@ -21,12 +21,14 @@ namespace fibrane::solve {
 /// "The factorisation's input"). Matrices below `min_unknowns`, a single thread, or a split that does not
 /// serve (a separator above `max_separator`, a half below a fifth of the unknowns, one half with more than
 /// `max_work_share` of the flops, CHOLMOD's ordering not keeping S last) are factorised whole by
-/// make_cholmod_llt's solver. The name is "cholmod" either way.
+/// make_cholmod_llt's solver. The name is "cholmod" either way. A new pattern keeps the last bisection
+/// where it still separates the graph (a model's patterns differ by its coupling's entries, which mostly
+/// stay within a half); only the halves are then analysed anew.
 struct CholmodSplitOptions {
   long memory_limit_megabytes = -1;  // as make_cholmod_llt's (kAvailableMemory)
   long min_unknowns = 100'000;
   long max_separator = 5'000;
-  double max_work_share = 0.58;  // the larger half's share of the two halves' flops at most
+  double max_work_share = 0.75;  // the larger half's share of the two halves' flops at most
 };
 std::unique_ptr<LinearSolver> make_cholmod_split_llt(const CholmodSplitOptions& options = {});
 

@@ -89,6 +89,47 @@ TEST(CholmodSplit, ANewPatternIsSplitAfresh) {
   EXPECT_LT(relative(solver->solve(b), whole_solve(wider, b)), 1e-14);
 }
 
+// The separator rows of the solver's last analysis, sorted.
+std::vector<int> separator_rows(const LinearSolver& solver) {
+  std::vector<int> order = cholmod_split_pivot_order(solver);
+  const long s = cholmod_split_separator(solver);
+  std::vector<int> rows(order.end() - s, order.end());
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
+// a with the symmetric entries (i, j) and (j, i) added (or changed) to `value`.
+SpMat with_entry(SpMat a, int i, int j, double value) {
+  a.coeffRef(i, j) = value;
+  a.coeffRef(j, i) = value;
+  a.makeCompressed();
+  return a;
+}
+
+TEST(CholmodSplit, ANewPatternWithinTheHalvesKeepsTheSeparator) {
+  auto solver = split_solver();
+  const SpMat a = spd(1);
+  solver->analyze(a);
+  const std::vector<int> order = cholmod_split_pivot_order(*solver), separator = separator_rows(*solver);
+  const long s = cholmod_split_separator(*solver);
+  ASSERT_GT(s, 0);
+  // an entry between two rows of the first half's interior (its first two pivots): the separator stays
+  const SpMat within = with_entry(a, order[0], order[1], -0.05);
+  ASSERT_GT(within.nonZeros(), a.nonZeros());
+  solver->analyze(within);
+  EXPECT_EQ(separator_rows(*solver), separator);
+  ASSERT_TRUE(solver->factorize(within));
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(a.rows(), 1.0, -1.0);
+  EXPECT_LT(relative(solver->solve(b), whole_solve(within, b)), 1e-14);
+  // an entry joining the two interiors (the first half's first pivot, the second's last): bisected anew
+  const SpMat across = with_entry(within, order[0], order[order.size() - static_cast<std::size_t>(s) - 1], -0.05);
+  solver->analyze(across);
+  EXPECT_GT(cholmod_split_separator(*solver), 0);
+  EXPECT_NE(separator_rows(*solver), separator);
+  ASSERT_TRUE(solver->factorize(across));
+  EXPECT_LT(relative(solver->solve(b), whole_solve(across, b)), 1e-14);
+}
+
 TEST(CholmodSplit, AnIndefiniteMatrixIsRefused) {
   auto solver = split_solver();
   const SpMat a = grid_matrix(70, -1.3, 0.0);  // the Laplacian shifted below its smallest eigenvalues
