@@ -197,6 +197,7 @@ class CholmodSplitSolver final : public LinearSolver {
     hand_back_freed_memory();
     split_ = a.rows() >= options_.min_unknowns && omp_get_max_threads() >= 2 && a.isCompressed() && split(a);
     if (split_) return;
+    partition_.clear();  // a bisection that did not serve is not kept: the next pattern is bisected anew
     halves_[0].reset();
     halves_[1].reset();
     if (!whole_) whole_ = make_cholmod_llt(options_.memory_limit_megabytes);
