@@ -99,6 +99,9 @@ void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& nod
       v->fail_message("split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not " + ls.kind);
   }
   const bool mumps_only = ls.precision == "single" || ls.low_rank > 0 || !ls.out_of_core_directory.empty();
+  if (ls.split && mumps_only)
+    node["split"].fail_message("split is CHOLMOD's Cholesky in two halves; single-precision, low-rank and "
+                               "out-of-core factorisations are MUMPS's");
   if (mumps_only && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu")) {
     const char* key = node.has("precision") ? "precision" : node.has("low_rank") ? "low_rank" : "out_of_core";
     node[key].fail_message("single-precision, low-rank and out-of-core factorisations are MUMPS's: they need "

@@ -7,13 +7,12 @@
 #include "common/system_memory.hpp"
 
 namespace fibrane::solve {
-cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, double* values) {
+cholmod_sparse cholmod_lower_view(int n, const int* column_starts, const int* rows, double* values) {
   cholmod_sparse v{};
-  v.nrow = static_cast<size_t>(lower.rows());
-  v.ncol = static_cast<size_t>(lower.cols());
-  v.nzmax = static_cast<size_t>(lower.nonZeros());
-  v.p = const_cast<int*>(lower.outerIndexPtr());
-  v.i = const_cast<int*>(lower.innerIndexPtr());
+  v.nrow = v.ncol = static_cast<size_t>(n);
+  v.nzmax = static_cast<size_t>(column_starts[n]);
+  v.p = const_cast<int*>(column_starts);
+  v.i = const_cast<int*>(rows);
   v.x = values;
   v.stype = -1;  // only the lower triangle is read, as Eigen's CholmodSupernodalLLT<..., Lower> has it
   v.itype = CHOLMOD_INT;
@@ -24,15 +23,15 @@ cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, doub
   return v;
 }
 
-bool CholmodPermutedLower::build(const Eigen::SparseMatrix<double>& lower, const cholmod_factor& factor,
-                                 cholmod_common& common) {
+bool CholmodPermutedLower::build(const cholmod_sparse& lower, const cholmod_factor& factor, cholmod_common& common) {
   clear();
   // The values are the entries' own indices (exact in double below 2^53), so that the transposes carry
   // each entry's source along. These are cholmod_factorize's two steps for a lower triangle:
   // upper = triu(P A P^T), then its transpose.
-  std::vector<double> index(static_cast<std::size_t>(lower.nonZeros()));
+  std::vector<double> index(lower.nzmax);
   std::iota(index.begin(), index.end(), 0.0);
-  cholmod_sparse a = cholmod_lower_view(lower, index.data());
+  cholmod_sparse a = cholmod_lower_view(static_cast<int>(lower.ncol), static_cast<const int*>(lower.p),
+                                        static_cast<const int*>(lower.i), index.data());
   cholmod_sparse* upper = cholmod_ptranspose(&a, 2, static_cast<int*>(factor.Perm), nullptr, 0, &common);
   release_storage(index);
   if (!upper) return false;

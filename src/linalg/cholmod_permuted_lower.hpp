@@ -7,9 +7,13 @@
 
 namespace fibrane::solve {
 
-/// A CHOLMOD view (no copy) of a compressed matrix whose lower triangle CHOLMOD is to read (stype -1), with
-/// `values` as its values (of its length), or its pattern alone where `values` is null.
-cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, double* values);
+/// A CHOLMOD view (no copy) of an n x n matrix in compressed columns whose lower triangle CHOLMOD is to read
+/// (stype -1), with `values` as its values (of its length), or its pattern alone where `values` is null.
+cholmod_sparse cholmod_lower_view(int n, const int* column_starts, const int* rows, double* values);
+/// The same for a compressed Eigen matrix.
+inline cholmod_sparse cholmod_lower_view(const Eigen::SparseMatrix<double>& lower, double* values) {
+  return cholmod_lower_view(static_cast<int>(lower.rows()), lower.outerIndexPtr(), lower.innerIndexPtr(), values);
+}
 
 /// The lower triangle of P A P^T in compressed columns, where A is a symmetric matrix given by its lower
 /// triangle and P the fill-reducing permutation of a CHOLMOD factor (cholmod_factor::Perm).
@@ -24,7 +28,11 @@ class CholmodPermutedLower {
  public:
   /// Builds the pattern and the source map for the lower triangle `lower` (its pattern) and the permutation
   /// of `factor`; returns false where CHOLMOD runs out of memory (status in `common`).
-  bool build(const Eigen::SparseMatrix<double>& lower, const cholmod_factor& factor, cholmod_common& common);
+  bool build(const Eigen::SparseMatrix<double>& lower, const cholmod_factor& factor, cholmod_common& common) {
+    return build(cholmod_lower_view(lower, nullptr), factor, common);
+  }
+  /// The same for a pattern given as a CHOLMOD view (cholmod_lower_view without values).
+  bool build(const cholmod_sparse& lower, const cholmod_factor& factor, cholmod_common& common);
   /// Whether build() has run since the last clear().
   bool built() const { return !source_.empty(); }
   /// The permuted lower triangle with the values of `lower`, which must have the pattern given to build().

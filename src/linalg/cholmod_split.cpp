@@ -33,8 +33,8 @@ using SpMat = Eigen::SparseMatrix<double>;
 struct Half {
   std::vector<int> rows;  // the whole matrix's rows of the half's rows: the interior, then the separator
   int interior = 0;
-  SpMat lower;                   // the half's lower triangle (its pattern)
-  std::vector<int> source;       // source[q]: the index in the whole matrix's values of lower's entry q
+  std::vector<int> lower_start, lower_rows;  // the pattern of the half's lower triangle, compressed columns
+  std::vector<int> source;  // source[q]: the index in the whole matrix's values of the lower triangle's entry q
   CholmodPermutedLower permuted;  // the permuted lower triangle, its source mapped into the whole
   cholmod_common common{};
   cholmod_factor* factor = nullptr;
@@ -55,12 +55,14 @@ struct Half {
   Half(const Half&) = delete;
   Half& operator=(const Half&) = delete;
   int size() const { return static_cast<int>(rows.size()); }
+  cholmod_sparse lower() { return cholmod_lower_view(size(), lower_start.data(), lower_rows.data(), nullptr); }
 };
 
-// The lower triangle of a's rows and columns `rows` (in that order), its values left zero; source[q] is the
-// index in a's values of its entry q. Two counting sorts (the entries by row, then by column in the order of
-// their rows) leave every column's rows sorted.
-SpMat sub_lower(const SpMat& a, const std::vector<int>& rows, std::vector<int>& source) {
+// The pattern of the lower triangle of a's rows and columns h.rows (in that order) in h.lower_start and
+// h.lower_rows, and in h.source the index in a's values of each of its entries. Two counting sorts (the
+// entries by row, then by column in the order of their rows) leave every column's rows sorted.
+void sub_lower(const SpMat& a, Half& h) {
+  const std::vector<int>& rows = h.rows;
   const int n = static_cast<int>(rows.size());
   std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
   for (int i = 0; i < n; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
@@ -86,35 +88,32 @@ SpMat sub_lower(const SpMat& a, const std::vector<int>& rows, std::vector<int>& 
     row_column[k] = c;
     row_source[k] = p;
   });
-  SpMat s(n, n);
-  s.resizeNonZeros(static_cast<Eigen::Index>(entries));
-  int* column_start = s.outerIndexPtr();
-  std::fill(column_start, column_start + n + 1, 0);
-  for (const int c : row_column) ++column_start[c + 1];
-  std::partial_sum(column_start, column_start + n + 1, column_start);
-  next.assign(column_start, column_start + n);
-  source.resize(entries);
+  std::vector<int>& column_start = h.lower_start;
+  column_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  for (const int c : row_column) ++column_start[static_cast<std::size_t>(c) + 1];
+  std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
+  next.assign(column_start.begin(), column_start.end() - 1);
+  h.lower_rows.resize(entries);
+  h.source.resize(entries);
   for (int r = 0; r < n; ++r)
     for (auto k = static_cast<std::size_t>(row_start[static_cast<std::size_t>(r)]);
          k < static_cast<std::size_t>(row_start[static_cast<std::size_t>(r) + 1]); ++k) {
       const auto q = static_cast<std::size_t>(next[static_cast<std::size_t>(row_column[k])]++);
-      s.innerIndexPtr()[q] = r;
-      source[q] = row_source[k];
+      h.lower_rows[q] = r;
+      h.source[q] = row_source[k];
     }
-  std::fill(s.valuePtr(), s.valuePtr() + entries, 0.0);
-  return s;
 }
 
 // Analyses a half with its interior in CHOLMOD's fill-reducing order and the separator after it, as given;
 // false where CHOLMOD fails or its factor does not keep the separator last.
 bool analyse(Half& h, const SpMat& a) {
-  h.lower = sub_lower(a, h.rows, h.source);
+  sub_lower(a, h);
   // CAMD's constrained minimum degree (the separator a constraint set after the interior), which needed
   // fewer flops than METIS's order of the interior alone or of the whole half with the separator moved
   // last (docs/performance.md, "The factorisation's input").
   std::vector<int> order(static_cast<std::size_t>(h.size())), member(order.size(), 0);
   std::fill(member.begin() + h.interior, member.end(), 1);
-  cholmod_sparse hv = cholmod_lower_view(h.lower, nullptr);
+  cholmod_sparse hv = h.lower();
   if (!cholmod_camd(&hv, nullptr, 0, member.data(), order.data(), &h.common)) return false;
   h.common.nmethods = 1;
   h.common.method[0].ordering = CHOLMOD_GIVEN;
@@ -141,7 +140,7 @@ bool analyse(Half& h, const SpMat& a) {
 // definite or CHOLMOD fails.
 bool factorise(Half& h, const SpMat& a) {
   if (!h.permuted.built()) {
-    if (!h.permuted.build(h.lower, *h.factor, h.common)) return false;
+    if (!h.permuted.build(h.lower(), *h.factor, h.common)) return false;
     h.permuted.map_through(h.source);
   }
   double beta[2] = {0, 0};
@@ -364,10 +363,11 @@ class CholmodSplitSolver final : public LinearSolver {
     const int s = static_cast<int>(separator_.size());
     t_.setZero(s, s);
     const Half& h = *halves_[0];  // -K_SS's lower triangle, from the first half's lower triangle
-    const int* outer = h.lower.outerIndexPtr();
+    const std::vector<int>& outer = h.lower_start;
     for (int c = 0; c < s; ++c)
-      for (int q = outer[h.interior + c]; q < outer[h.interior + c + 1]; ++q)
-        t_(h.lower.innerIndexPtr()[q] - h.interior, c) = -a.valuePtr()[h.source[static_cast<std::size_t>(q)]];
+      for (auto q = static_cast<std::size_t>(outer[static_cast<std::size_t>(h.interior + c)]);
+           q < static_cast<std::size_t>(outer[static_cast<std::size_t>(h.interior + c) + 1]); ++q)
+        t_(h.lower_rows[q] - h.interior, c) = -a.valuePtr()[h.source[q]];
     const double one = 1;
     for (const auto& h : halves_) dsyrk_("L", "N", &s, &s, &one, h->c.data(), &s, &one, t_.data(), &s);
     int info = 0;

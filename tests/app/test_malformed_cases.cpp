@@ -68,6 +68,9 @@ const Malformed cases[] = {
      "auto, mumps or mumps-lu, not cholmod"},
     {"split_with_mumps", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: mumps, split: true}",
      "steps.split: split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not mumps"},
+    {"split_with_single_precision", "steps: {dt: 0.5}", "steps: {dt: 0.5, split: true, precision: single}",
+     "steps.split: split is CHOLMOD's Cholesky in two halves; single-precision, low-rank and out-of-core "
+     "factorisations are MUMPS's"},
     {"out_of_core_missing_directory", "steps: {dt: 0.5}", "steps: {dt: 0.5, out_of_core: /nonexistent/factor-files}",
      "steps.out_of_core: the directory '/nonexistent/factor-files' for the out-of-core factor files does not exist"},
     {"vector_of_two", "origin: [0, 0, 0]", "origin: [0, 0]",
