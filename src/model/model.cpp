@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include "common/error.hpp"
+#include "model/ordered_sum.hpp"
 
 namespace fibrane::model {
 
@@ -287,14 +288,21 @@ void Model::evaluate_non_finite(bool with_tangent) {
 
 double Model::estimate_roundoff_floor() const {
   const auto& k = tangent();
-  double sum = 0.0;
-  for (int j = 0; j < k.outerSize(); ++j) {
-    const auto d = static_cast<std::size_t>(constraints.free_dof(j));
-    const double x = reference_magnitude_[d] + std::abs(u_[static_cast<Eigen::Index>(d)]);
-    double column = 0.0;
-    for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) column += it.value() * it.value();
-    sum += column * x * x;
+  OrderedSum total;  // static schedule, ordered sum: the same bits in every run with this thread count
+#pragma omp parallel if (k.nonZeros() > 200000)
+  {
+    double part = 0.0;
+#pragma omp for schedule(static)
+    for (int j = 0; j < static_cast<int>(k.outerSize()); ++j) {
+      const auto d = static_cast<std::size_t>(constraints.free_dof(j));
+      const double x = reference_magnitude_[d] + std::abs(u_[static_cast<Eigen::Index>(d)]);
+      double column = 0.0;
+      for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) column += it.value() * it.value();
+      part += column * x * x;
+    }
+    total.set(part);
   }
+  double sum = total.total();
   if (distribution_) distribution_->sum({&sum, 1});
   return std::numeric_limits<double>::epsilon() * std::sqrt(sum);
 }

@@ -98,6 +98,30 @@ TEST(ColouredAssembly, SoftMinimumPointsEqualTheBufferedAssembly) {
                            });
 }
 
+// Newton's round-off floor (Model::roundoff_floor, summed over the tangent's columns on the threads in an
+// ordered sum) is the one-thread sum to round-off: a column range left out would change it at O(1).
+TEST(ModelThreads, RoundoffFloorIsTheOneThreadSum) {
+  const auto dir = fresh_directory("coloured-floor");
+  std::ofstream(dir / "case.yaml") << example_text("bending.yaml", {{"elements: [100, 100]", "elements: [12, 12]"},
+                                                                   {"elements: 400", "elements: 48"}});
+  auto c = casefile::read_case((dir / "case.yaml").string());
+  model::Model& m = *c.model;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  const Eigen::VectorXd q = Eigen::VectorXd::NullaryExpr(m.size(), [&] { return 0.02 * uniform(rng); });
+  const int threads = omp_get_max_threads();
+  double floor[2];
+  for (int k : {0, 1}) {
+    omp_set_num_threads(k + 1);
+    m.evaluate(q, 0.7, true);
+    floor[k] = m.roundoff_floor();
+  }
+  omp_set_num_threads(threads);
+  ASSERT_GT(m.tangent().nonZeros(), 200000);  // large enough for the parallel sum
+  EXPECT_GT(floor[0], 0.0);
+  EXPECT_NEAR(floor[1], floor[0], 1e-13 * floor[0]);
+}
+
 TEST(ColouredAssembly, DynamicSnapToContactEqualsTheBufferedAssembly) {
   expect_equal_evaluations("coloured-dynamic", example_text("snap-to-contact-dynamic.yaml"), 0.01, true);
 }
