@@ -101,6 +101,7 @@ TEST(ColouredAssembly, SoftMinimumPointsEqualTheBufferedAssembly) {
 // Newton's round-off floor (Model::roundoff_floor, summed over the tangent's columns on the threads in an
 // ordered sum) is the one-thread sum to round-off: a column range left out would change it at O(1).
 TEST(ModelThreads, RoundoffFloorIsTheOneThreadSum) {
+  if (omp_get_thread_limit() < 2) GTEST_SKIP() << "needs two OpenMP threads (OMP_THREAD_LIMIT)";
   const auto dir = fresh_directory("coloured-floor");
   std::ofstream(dir / "case.yaml") << example_text("bending.yaml", {{"elements: [100, 100]", "elements: [12, 12]"},
                                                                    {"elements: 400", "elements: 48"}});
