@@ -3,8 +3,9 @@
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
 //                       [--rounds R] [--state DIR]
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
-// the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in two halves
-// at METIS's separator where the matrix is large enough, as steps.split makes it), cholmod-whole (= cholmod),
+// the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in domains
+// below METIS's separators where the matrix is large enough, as steps.split makes it: as many domains as threads),
+// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-whole (= cholmod),
 // "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
@@ -113,6 +114,8 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
     return fibrane::solve::make_mumps(options);
   }
   if (kind == "cholmod-split") return fibrane::solve::make_cholmod_split_llt();
+  if (kind.rfind("cholmod-split-", 0) == 0)  // cholmod-split-L: L levels of nested dissection
+    return fibrane::solve::make_cholmod_split_llt({.levels = std::stoi(kind.substr(14))});
   if (kind == "cholmod-whole") return fibrane::solve::make_cholmod_llt();
   if (kind == "symmetric-auto") return fibrane::solve::make_linear_solver(case_settings.kind, true);
   if (kind == "auto") return fibrane::solve::make_linear_solver(case_settings.kind, symmetric);

@@ -1,204 +1,66 @@
-// CHOLMOD's supernodal LL^T in two halves side by side, joined by the separator's dense Schur complement
-// (the algebra is in cholmod_split.hpp).
+// CHOLMOD's supernodal LL^T in domains side by side below a tree of dense separator fronts (the algebra is
+// in cholmod_split.hpp).
 #include "linalg/cholmod_split.hpp"
 
-#include <cholmod.h>
 #include <omp.h>
 
 #include <algorithm>
-#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <numeric>
 #include <string>
 
-#include "linalg/cholmod_permuted_lower.hpp"
+#include "linalg/cholmod_domain.hpp"
+#include "linalg/dense_front.hpp"
 #include "linalg/direct_solvers.hpp"
-
-extern "C" {
-void dpotrf_(const char* uplo, const int* n, double* a, const int* lda, int* info);
-void dpotrs_(const char* uplo, const int* n, const int* nrhs, const double* a, const int* lda, double* b,
-             const int* ldb, int* info);
-void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha, const double* a,
-            const int* lda, const double* beta, double* c, const int* ldc);
-}
+#include "linalg/separator_tree.hpp"
 
 namespace fibrane::solve {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
-// One half: its interior and the separator, with its own CHOLMOD workspace (the halves run on two threads).
-struct Half {
-  std::vector<int> rows;  // the whole matrix's rows of the half's rows: the interior, then the separator
-  int interior = 0;
-  std::vector<int> lower_start, lower_rows;  // the pattern of the half's lower triangle, compressed columns
-  std::vector<int> source;  // source[q]: the index in the whole matrix's values of the lower triangle's entry q
-  CholmodPermutedLower permuted;  // the permuted lower triangle, its source mapped into the whole
-  cholmod_common common{};
-  cholmod_factor* factor = nullptr;
-  double flops = 0;  // of a factorisation, as CHOLMOD's analysis counts them
-  std::vector<int> separator_order;  // the separator rows (0 ... s-1) in the factor's order
-  Eigen::MatrixXd c;  // P^T C: the factor's trailing separator block, its rows in the separator's order
-
-  Half() {
-    cholmod_start(&common);
-    common.print = 0;
-    common.supernodal = CHOLMOD_SUPERNODAL;
-  }
-  ~Half() {
-    cholmod_free_factor(&factor, &common);
-    permuted.clear();
-    cholmod_finish(&common);
-  }
-  Half(const Half&) = delete;
-  Half& operator=(const Half&) = delete;
-  int size() const { return static_cast<int>(rows.size()); }
-  cholmod_sparse lower() { return cholmod_lower_view(size(), lower_start.data(), lower_rows.data(), nullptr); }
-};
-
-// The pattern of the lower triangle of a's rows and columns h.rows (in that order) in h.lower_start and
-// h.lower_rows, and in h.source the index in a's values of each of its entries. Two counting sorts (the
-// entries by row, then by column in the order of their rows) leave every column's rows sorted.
-void sub_lower(const SpMat& a, Half& h) {
-  const std::vector<int>& rows = h.rows;
-  const int n = static_cast<int>(rows.size());
-  std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
-  for (int i = 0; i < n; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
-  const int* outer = a.outerIndexPtr();
-  const int* inner = a.innerIndexPtr();
-  auto for_each_entry = [&](auto&& visit) {  // visit(local row, local column, index in a), row >= column
-    for (int j = 0; j < a.cols(); ++j) {
-      const int lj = local[static_cast<std::size_t>(j)];
-      if (lj < 0) continue;
-      for (int p = outer[j]; p < outer[j + 1]; ++p) {
-        const int i = inner[p], li = local[static_cast<std::size_t>(i)];
-        if (i >= j && li >= 0) visit(std::max(li, lj), std::min(li, lj), p);  // a's lower triangle
-      }
-    }
-  };
-  std::vector<int> row_start(static_cast<std::size_t>(n) + 1, 0);
-  for_each_entry([&](int r, int, int) { ++row_start[static_cast<std::size_t>(r) + 1]; });
-  std::partial_sum(row_start.begin(), row_start.end(), row_start.begin());
-  const auto entries = static_cast<std::size_t>(row_start.back());
-  std::vector<int> next(row_start.begin(), row_start.end() - 1), row_column(entries), row_source(entries);
-  for_each_entry([&](int r, int c, int p) {
-    const auto k = static_cast<std::size_t>(next[static_cast<std::size_t>(r)]++);
-    row_column[k] = c;
-    row_source[k] = p;
-  });
-  std::vector<int>& column_start = h.lower_start;
-  column_start.assign(static_cast<std::size_t>(n) + 1, 0);
-  for (const int c : row_column) ++column_start[static_cast<std::size_t>(c) + 1];
-  std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
-  next.assign(column_start.begin(), column_start.end() - 1);
-  h.lower_rows.resize(entries);
-  h.source.resize(entries);
-  for (int r = 0; r < n; ++r)
-    for (auto k = static_cast<std::size_t>(row_start[static_cast<std::size_t>(r)]);
-         k < static_cast<std::size_t>(row_start[static_cast<std::size_t>(r) + 1]); ++k) {
-      const auto q = static_cast<std::size_t>(next[static_cast<std::size_t>(row_column[k])]++);
-      h.lower_rows[q] = r;
-      h.source[q] = row_source[k];
-    }
+// The time of `work` items on `threads` threads, each item to the thread that is free first, the largest
+// items first (what a dynamic schedule of the items in that order gives).
+double makespan(std::vector<double> work, int threads) {
+  std::sort(work.begin(), work.end(), std::greater<>());
+  std::vector<double> load(static_cast<std::size_t>(std::max(threads, 1)), 0.0);
+  for (const double w : work) *std::min_element(load.begin(), load.end()) += w;
+  return *std::max_element(load.begin(), load.end());
 }
 
-// Analyses a half with its interior in CHOLMOD's fill-reducing order and the separator after it, as given;
-// false where CHOLMOD fails or its factor does not keep the separator last.
-bool analyse(Half& h, const SpMat& a) {
-  sub_lower(a, h);
-  // CAMD's constrained minimum degree (the separator a constraint set after the interior), which needed
-  // fewer flops than METIS's order of the interior alone or of the whole half with the separator moved
-  // last (docs/performance.md, "The factorisation's input").
-  std::vector<int> order(static_cast<std::size_t>(h.size())), member(order.size(), 0);
-  std::fill(member.begin() + h.interior, member.end(), 1);
-  cholmod_sparse hv = h.lower();
-  if (!cholmod_camd(&hv, nullptr, 0, member.data(), order.data(), &h.common)) return false;
-  h.common.nmethods = 1;
-  h.common.method[0].ordering = CHOLMOD_GIVEN;
-  h.factor = cholmod_analyze_p(&hv, order.data(), nullptr, 0, &h.common);
-  h.common.nmethods = 0;
-  h.flops = h.common.fl;
-  if (!h.factor || !h.factor->is_super) return false;
-  // CHOLMOD's postorder of the elimination tree keeps the separator, the tree's top, last: only its own
-  // order may change. separator_order[t]: the separator row of the factor's column interior + t.
-  const auto* perm = static_cast<const int*>(h.factor->Perm);
-  const int s = h.size() - h.interior;
-  h.separator_order.assign(perm + h.interior, perm + h.size());
-  std::vector<char> seen(static_cast<std::size_t>(s), 0);
-  for (int& r : h.separator_order) {
-    r -= h.interior;
-    if (r < 0 || seen[static_cast<std::size_t>(r)]) return false;
-    seen[static_cast<std::size_t>(r)] = 1;
+// Runs body(k) for every k of `items`, side by side on up to `threads` threads with one BLAS thread each
+// where there are at least half as many items as threads, one after the other with the configured BLAS
+// threads where there are fewer (a few large dense fronts); false where a body returned false.
+template <class Body>
+bool side_by_side(const std::vector<int>& items, int threads, Body&& body) {
+  const int n = static_cast<int>(items.size());
+  if (2 * n < threads || n == 1) {
+    for (const int k : items)
+      if (!body(k)) return false;
+    return true;
   }
-  return true;
+  int failed = 0;
+  const BlasThreadsForFactor one_blas_thread(0);
+#pragma omp parallel for num_threads(std::min(threads, n)) schedule(dynamic, 1) reduction(+ : failed)
+  for (int i = 0; i < n; ++i) failed += body(items[static_cast<std::size_t>(i)]) ? 0 : 1;
+  return failed == 0;
 }
 
-// Factorises a half from the whole matrix's values and copies out its separator block C, its rows in the
-// separator's order (P^T C; its columns stay in the factor's); false where the half is not positive
-// definite or CHOLMOD fails.
-bool factorise(Half& h, const SpMat& a) {
-  if (!h.permuted.built()) {
-    if (!h.permuted.build(h.lower(), *h.factor, h.common)) return false;
-    h.permuted.map_through(h.source);
-  }
-  double beta[2] = {0, 0};
-  const int ok = cholmod_super_numeric(h.permuted.fill(a.valuePtr()), nullptr, beta, h.factor, &h.common);
-  h.permuted.drop_values();
-  if (!ok || h.common.status != CHOLMOD_OK || h.factor->minor < h.factor->n) return false;
-  // C: the columns from the interior's end on, in their supernodes (column-major blocks of nsrow rows).
-  const int s = h.size() - h.interior;
-  h.c.setZero(s, s);
-  const auto* super = static_cast<const int*>(h.factor->super);
-  const auto* pi = static_cast<const int*>(h.factor->pi);
-  const auto* px = static_cast<const int*>(h.factor->px);
-  const auto* ls = static_cast<const int*>(h.factor->s);
-  const auto* lx = static_cast<const double*>(h.factor->x);
-  for (size_t sn = 0; sn < h.factor->nsuper; ++sn) {
-    const int k1 = super[sn], k2 = super[sn + 1], nsrow = pi[sn + 1] - pi[sn];
-    for (int j = std::max(k1, h.interior); j < k2; ++j)
-      for (int r = j - k1; r < nsrow; ++r)
-        h.c(h.separator_order[static_cast<std::size_t>(ls[pi[sn] + r] - h.interior)], j - h.interior) =
-            lx[px[sn] + (j - k1) * nsrow + r];
-  }
-  return true;
-}
-
-// One of CHOLMOD's solves (sys: CHOLMOD_P, CHOLMOD_L, CHOLMOD_Lt, CHOLMOD_Pt) with a half's factor.
-Eigen::MatrixXd half_solve(int sys, Half& h, const Eigen::MatrixXd& b) {
-  cholmod_dense in{};
-  in.nrow = static_cast<size_t>(b.rows());
-  in.ncol = static_cast<size_t>(b.cols());
-  in.nzmax = in.nrow * in.ncol;
-  in.d = in.nrow;
-  in.x = const_cast<double*>(b.data());
-  in.xtype = CHOLMOD_REAL;
-  in.dtype = CHOLMOD_DOUBLE;
-  cholmod_dense* out = cholmod_solve(sys, h.factor, &in, &h.common);
-  if (!out) return Eigen::MatrixXd::Constant(b.rows(), b.cols(), std::numeric_limits<double>::quiet_NaN());
-  Eigen::MatrixXd x = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(out->x), b.rows(), b.cols());
-  cholmod_free_dense(&out, &h.common);
-  return x;
-}
-
-// The solver: two halves and the separator's Schur complement where the matrix is split, make_cholmod_llt's
-// solver where it is not.
+// The solver: domains and fronts where the matrix is split, make_cholmod_llt's solver where it is not.
 class CholmodSplitSolver final : public LinearSolver {
  public:
   explicit CholmodSplitSolver(const CholmodSplitOptions& o) : options_(o) {}
 
   void analyze(const SpMat& a) override {
-    halves_[0].reset();
-    halves_[1].reset();
-    t_.resize(0, 0);
-    factored_ = false;
+    clear_parts();
     hand_back_freed_memory();
-    split_ = a.rows() >= options_.min_unknowns && omp_get_max_threads() >= 2 && a.isCompressed() && split(a);
+    threads_ = omp_get_max_threads();
+    split_ = a.rows() >= options_.min_unknowns && threads_ >= 2 && a.isCompressed() && split(a);
     if (split_) return;
-    partition_.clear();  // a bisection that did not serve is not kept: the next pattern is bisected anew
-    halves_[0].reset();
-    halves_[1].reset();
+    tree_.clear();  // a tree that did not serve is not kept: the next pattern is divided anew
+    clear_parts();
     if (!whole_) whole_ = make_cholmod_llt(options_.memory_limit_megabytes);
     whole_->analyze(a);
   }
@@ -210,65 +72,83 @@ class CholmodSplitSolver final : public LinearSolver {
       return false;
     }
     refusal_.clear();
-    bool ok[2] = {false, false};
-    {
-      const BlasThreadsForFactor one_blas_thread(0);  // one BLAS thread per half
-#pragma omp parallel for num_threads(2) schedule(static, 1)
-      for (int k = 0; k < 2; ++k) ok[k] = factorise(*halves_[k], a);
-    }
-    if (!ok[0] || !ok[1]) return false;
-    factored_ = schur(a);
+    updates_.assign(domains_.size(), {});
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool domains_ok = side_by_side(domain_order_, threads_, [&](int d) {
+      CholmodDomain& domain = *domains_[static_cast<std::size_t>(d)];
+      if (!domain.factorise(a)) return false;
+      updates_[static_cast<std::size_t>(d)] = domain.update(a);
+      return true;
+    });
+    const auto t1 = std::chrono::steady_clock::now();
+    factored_ = domains_ok && factorise_fronts(a);
+    updates_.clear();
+    domain_seconds_ += std::chrono::duration<double>(t1 - t0).count();
+    front_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    ++factorisations_;
     return factored_;
   }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
     if (!split_) return whole_->solve(b);
     return solve_columns(b);
   }
-  // All columns together: one pass through each half's factor (the rank-m correction of "auto" solves m).
+  // All columns together: one pass through each factor (the rank-m correction of "auto" solves m).
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override {
     if (!split_) return whole_->solve_columns(b);
-    const auto s = t_.rows(), m = b.cols();
-    Eigen::MatrixXd y[2], x_s = b(separator_, Eigen::all);
-    {
-      const BlasThreadsForFactor one_blas_thread(0);
-#pragma omp parallel for num_threads(2) schedule(static, 1)
-      for (int k = 0; k < 2; ++k) {
-        Half& h = *halves_[k];
-        Eigen::MatrixXd local = Eigen::MatrixXd::Zero(h.size(), m);
-        for (int i = 0; i < h.interior; ++i) local.row(i) = b.row(h.rows[static_cast<std::size_t>(i)]);
-        y[k] = half_solve(CHOLMOD_L, h, half_solve(CHOLMOD_P, h, local));
-      }
+    std::vector<Eigen::MatrixXd> y(domains_.size()), r(fronts_.size());
+    forward_domains(b, y);
+    forward_fronts(b, y, r);
+    Eigen::MatrixXd x(b.rows(), b.cols());
+    for (auto k = static_cast<int>(fronts_.size()) - 1; k >= 0; --k) {  // the fronts backward, top down
+      const SeparatorTree::Node& node = front_node(k);
+      Eigen::MatrixXd y_s = r[static_cast<std::size_t>(k)].topRows(node.rows.size());
+      fronts_[static_cast<std::size_t>(k)].backward(y_s, x(node.boundary, Eigen::all));
+      x(node.rows, Eigen::all) = y_s;
     }
-    for (int k = 0; k < 2; ++k)  // b_S + C_k v_k
-      x_s.noalias() += halves_[k]->c * y[k].bottomRows(s);
-    const int n = static_cast<int>(s), columns = static_cast<int>(m);
-    int info = 0;
-    dpotrs_("L", &n, &columns, t_.data(), &n, x_s.data(), &n, &info);
-    Eigen::MatrixXd x(b.rows(), m);
-    {
-      const BlasThreadsForFactor one_blas_thread(0);
-#pragma omp parallel for num_threads(2) schedule(static, 1)
-      for (int k = 0; k < 2; ++k) {
-        Half& h = *halves_[k];
-        y[k].bottomRows(s).noalias() = h.c.transpose() * x_s;
-        const Eigen::MatrixXd local = half_solve(CHOLMOD_Pt, h, half_solve(CHOLMOD_Lt, h, y[k]));
-        for (int i = 0; i < h.interior; ++i) x.row(h.rows[static_cast<std::size_t>(i)]) = local.row(i);
-      }
-    }
-    x(separator_, Eigen::all) = x_s;
+    std::vector<int> all(domains_.size());
+    std::iota(all.begin(), all.end(), 0);
+    side_by_side(all, threads_, [&](int d) {  // the domains backward, with C^T x_B in the boundary's place
+      CholmodDomain& domain = *domains_[static_cast<std::size_t>(d)];
+      Eigen::MatrixXd& yd = y[static_cast<std::size_t>(d)];
+      yd.bottomRows(domain.boundary()).noalias() =
+          domain.c.transpose() * x(domain_node(d).boundary, Eigen::all);
+      const Eigen::MatrixXd local = domain.solve(CHOLMOD_Pt, domain.solve(CHOLMOD_Lt, yd));
+      for (int i = 0; i < domain.interior; ++i) x.row(domain.rows[static_cast<std::size_t>(i)]) = local.row(i);
+      return true;
+    });
     return x;
   }
   std::string name() const override { return "cholmod"; }
   long factor_nonzeros() const override {
     if (!split_) return whole_ ? whole_->factor_nonzeros() : 0;
-    const long s = t_.rows();
-    return static_cast<long>(halves_[0]->factor->xsize + halves_[1]->factor->xsize) + s * (s + 1) / 2;
+    long entries = 0;
+    for (const auto& d : domains_) entries += static_cast<long>(d->factor->xsize);
+    for (const auto& f : fronts_) entries += f.factor_entries();
+    return entries;
   }
   std::string analysis_summary() const override {
     if (!split_) return whole_ ? whole_->analysis_summary() : std::string();
-    char flops[64];
-    std::snprintf(flops, sizeof flops, " (%.3g and %.3g GFlop)", halves_[0]->flops / 1e9, halves_[1]->flops / 1e9);
-    return "in two halves at a separator of " + std::to_string(separator_.size()) + flops;
+    char text[300];
+    if (domains_.size() == 2) {
+      std::snprintf(text, sizeof text, "in two halves at a separator of %ld (%.3g and %.3g GFlop)",
+                    tree_.separator_rows(), domains_[0]->flops / 1e9, domains_[1]->flops / 1e9);
+    } else {
+      double total = 0, largest = 0, fronts = 0;
+      for (const auto& d : domains_) total += d->flops, largest = std::max(largest, d->flops);
+      for (const auto& f : fronts_) fronts += f.flops();
+      std::snprintf(text, sizeof text,
+                    "in %zu domains below %zu separators of %ld rows (domains %.3g GFlop, the largest %.3g; "
+                    "fronts %.3g GFlop)",
+                    domains_.size(), fronts_.size(), tree_.separator_rows(), total / 1e9, largest / 1e9,
+                    fronts / 1e9);
+    }
+    std::string summary = text;
+    if (factorisations_ > 0) {  // the solver's whole life, over all patterns
+      std::snprintf(text, sizeof text, "; %ld split factorisations: domains %.1f s, fronts %.1f s", factorisations_,
+                    domain_seconds_, front_seconds_);
+      summary += text;
+    }
+    return summary;
   }
   int negative_eigenvalues() const override {
     if (!split_) return whole_ ? whole_->negative_eigenvalues() : -1;
@@ -281,119 +161,223 @@ class CholmodSplitSolver final : public LinearSolver {
       if (whole_) whole_->release_factor();
       return;
     }
-    for (auto& h : halves_) {
-      cholmod_change_factor(CHOLMOD_PATTERN, h->factor->is_ll, h->factor->is_super, true, true, h->factor,
-                            &h->common);
-      h->permuted.release_values();
-    }
+    for (auto& d : domains_) d->release();
+    for (auto& f : fronts_) f.release();
   }
   long held_factor_entries() const override {
     if (!split_) return whole_ ? whole_->held_factor_entries() : 0;
     long held = 0;
-    for (const auto& h : halves_)
-      if (h->factor->xtype != CHOLMOD_PATTERN) held += static_cast<long>(h->factor->xsize);
+    for (const auto& d : domains_)
+      if (d->factored()) held += static_cast<long>(d->factor->xsize);
+    for (const auto& f : fronts_)
+      if (f.factored()) held += f.factor_entries();
     return held;
   }
-  long separator() const { return split_ ? static_cast<long>(separator_.size()) : 0; }
-  // The pivot order of the whole: the two interiors in their factors' orders, then the separator.
+  long separator() const { return split_ ? tree_.separator_rows() : 0; }
+  int domain_count() const { return split_ ? static_cast<int>(domains_.size()) : 0; }
+  // The tree's nodes in postorder, each domain's interior in its factor's order.
   std::vector<int> pivot_order() const {
     if (!split_) return whole_ ? cholmod_pivot_order(*whole_) : std::vector<int>();
     std::vector<int> order;
-    for (const auto& h : halves_) {
-      const auto* perm = static_cast<const int*>(h->factor->Perm);
-      for (int k = 0; k < h->interior; ++k) order.push_back(h->rows[static_cast<std::size_t>(perm[k])]);
+    const auto& nodes = tree_.nodes();
+    for (std::size_t t = 0; t < nodes.size(); ++t) {
+      if (!nodes[t].domain()) {
+        order.insert(order.end(), nodes[t].rows.begin(), nodes[t].rows.end());
+        continue;
+      }
+      const CholmodDomain& d = *domains_[static_cast<std::size_t>(part_of_[t])];
+      const auto* perm = static_cast<const int*>(d.factor->Perm);
+      for (int k = 0; k < d.interior; ++k) order.push_back(d.rows[static_cast<std::size_t>(perm[k])]);
     }
-    order.insert(order.end(), separator_.begin(), separator_.end());
     return order;
   }
 
  private:
-  // METIS's node bisector of a's graph and the analyses of both halves; false where the split does not serve.
-  bool split(const SpMat& a) {
-    if (!separates(a)) {
-      partition_.assign(static_cast<std::size_t>(a.rows()), 0);
-      cholmod_common common;
-      cholmod_start(&common);
-      common.print = 0;
-      cholmod_sparse v = cholmod_lower_view(a, nullptr);
-      const long s = cholmod_bisect(&v, nullptr, 0, 1, partition_.data(), &common);
-      cholmod_finish(&common);
-      if (s <= 0 || s > options_.max_separator) {
-        partition_.clear();
-        return false;
-      }
-    }
-    separator_.clear();
-    for (int k = 0; k < 2; ++k) halves_[k] = std::make_unique<Half>();
-    for (int i = 0; i < a.rows(); ++i) {
-      const int part = partition_[static_cast<std::size_t>(i)];
-      (part == 2 ? separator_ : halves_[part]->rows).push_back(i);
-    }
-    for (auto& h : halves_) {
-      h->interior = static_cast<int>(h->rows.size());
-      if (5L * h->interior < a.rows()) return false;
-      h->rows.insert(h->rows.end(), separator_.begin(), separator_.end());
-    }
-    bool ok[2] = {false, false};
-#pragma omp parallel for num_threads(2) schedule(static, 1)
-    for (int k = 0; k < 2; ++k) ok[k] = analyse(*halves_[k], a);
-    if (!ok[0] || !ok[1]) return false;
-    // Side by side, the half with more work sets the time, on one core, where the whole factorisation runs
-    // on two at little more than one core's speed: the split pays until one half holds nearly all the work
-    // (docs/performance.md, "The factorisation's input").
-    const double larger = std::max(halves_[0]->flops, halves_[1]->flops);
-    return larger <= options_.max_work_share * (halves_[0]->flops + halves_[1]->flops);
+  int levels() const {
+    if (options_.levels > 0) return options_.levels;
+    int levels = 1;
+    while ((1 << levels) < threads_) ++levels;
+    return levels;
   }
-  // Whether the last bisection still separates a's graph (no entry joins the two interiors): a new pattern
-  // of the same model differs from the last one by the coupling's entries, which mostly stay within a half.
-  // METIS's bisection is then kept, and the halves are only analysed anew.
-  bool separates(const SpMat& a) const {
-    if (partition_.size() != static_cast<std::size_t>(a.rows())) return false;
-    for (int j = 0; j < a.cols(); ++j) {
-      const int pj = partition_[static_cast<std::size_t>(j)];
-      if (pj == 2) continue;
-      for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p)
-        if (partition_[static_cast<std::size_t>(a.innerIndexPtr()[p])] == 1 - pj) return false;
+  void clear_parts() {
+    domains_.clear();
+    fronts_.clear();
+    part_of_.clear();
+    heights_.clear();
+    domain_order_.clear();
+    factored_ = false;
+  }
+  const SeparatorTree::Node& front_node(int k) const {
+    return tree_.nodes()[static_cast<std::size_t>(front_nodes_[static_cast<std::size_t>(k)])];
+  }
+  const SeparatorTree::Node& domain_node(int d) const {
+    return tree_.nodes()[static_cast<std::size_t>(domain_nodes_[static_cast<std::size_t>(d)])];
+  }
+
+  // The tree (kept where it still divides a's graph) and the analyses of its domains; false where the split
+  // does not serve.
+  bool split(const SpMat& a) {
+    if (tree_.divides(a))
+      tree_.update_boundaries(a);
+    else if (!tree_.build(a, {.levels = levels(), .min_rows = 1000, .max_separator = options_.max_separator}))
+      return false;
+    const auto& nodes = tree_.nodes();
+    part_of_.assign(nodes.size(), -1);
+    domain_nodes_.clear();
+    front_nodes_.clear();
+    for (std::size_t t = 0; t < nodes.size(); ++t) {
+      std::vector<int>& list = nodes[t].domain() ? domain_nodes_ : front_nodes_;
+      part_of_[t] = static_cast<int>(list.size());
+      list.push_back(static_cast<int>(t));
     }
+    // the top bisection leaves each side a fifth of the rows at least (SeparatorTree::Options)
+    for (std::size_t t = 0; t < domain_nodes_.size(); ++t) {
+      auto d = std::make_unique<CholmodDomain>();
+      const SeparatorTree::Node& node = nodes[static_cast<std::size_t>(domain_nodes_[t])];
+      d->rows = node.rows;
+      d->interior = static_cast<int>(node.rows.size());
+      d->rows.insert(d->rows.end(), node.boundary.begin(), node.boundary.end());
+      domains_.push_back(std::move(d));
+    }
+    domain_order_.resize(domains_.size());
+    std::iota(domain_order_.begin(), domain_order_.end(), 0);
+    if (!side_by_side(domain_order_, threads_, [&](int d) { return domains_[static_cast<std::size_t>(d)]->analyse(a); }))
+      return false;
+    std::vector<double> work;
+    for (const auto& d : domains_) work.push_back(d->flops);
+    std::stable_sort(domain_order_.begin(), domain_order_.end(),
+                     [&](int x, int y) { return work[static_cast<std::size_t>(x)] > work[static_cast<std::size_t>(y)]; });
+    set_fronts(a);
+    // Side by side, the domain that finishes last sets the time; the whole factorisation runs at little
+    // more than one core's speed on any number of threads (docs/performance.md, "The factorisation's
+    // input"): the split pays until the schedule is nearly one thread's.
+    const double total = std::accumulate(work.begin(), work.end(), 0.0);
+    return makespan(work, threads_) <= options_.max_work_share * total;
+  }
+  // Each separator's front: K's entries with a row or column in it, its children's maps; the fronts grouped
+  // by height.
+  void set_fronts(const SpMat& a) {
+    const auto& nodes = tree_.nodes();
+    std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
+    fronts_.assign(front_nodes_.size(), DenseFront());
+    for (std::size_t k = 0; k < front_nodes_.size(); ++k) {
+      const SeparatorTree::Node& node = nodes[static_cast<std::size_t>(front_nodes_[k])];
+      const int s = static_cast<int>(node.rows.size()), b = static_cast<int>(node.boundary.size());
+      std::vector<int> rows(node.rows);
+      rows.insert(rows.end(), node.boundary.begin(), node.boundary.end());
+      for (int i = 0; i < s + b; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
+      std::vector<std::pair<int, long>> entries;
+      for (const int j : rows) {
+        const int lj = local[static_cast<std::size_t>(j)];
+        for (int p = a.outerIndexPtr()[j]; p < a.outerIndexPtr()[j + 1]; ++p) {
+          const int i = a.innerIndexPtr()[p], li = local[static_cast<std::size_t>(i)];
+          if (i < j || li < 0 || (li >= s && lj >= s)) continue;  // a's lower triangle, not K_BB
+          entries.emplace_back(p, static_cast<long>(std::max(li, lj)) + static_cast<long>(std::min(li, lj)) * (s + b));
+        }
+      }
+      std::vector<std::vector<int>> maps;
+      for (const int c : node.children) {
+        std::vector<int> map;
+        for (const int r : nodes[static_cast<std::size_t>(c)].boundary) map.push_back(local[static_cast<std::size_t>(r)]);
+        maps.push_back(std::move(map));
+      }
+      fronts_[k].set(s, b, std::move(entries), std::move(maps));
+      for (const int r : rows) local[static_cast<std::size_t>(r)] = -1;
+      if (heights_.size() < static_cast<std::size_t>(node.height)) heights_.resize(static_cast<std::size_t>(node.height));
+      heights_[static_cast<std::size_t>(node.height - 1)].push_back(static_cast<int>(k));
+    }
+  }
+  // The fronts from the tree's bottom up, those of one height side by side.
+  bool factorise_fronts(const SpMat& a) {
+    for (const std::vector<int>& level : heights_)
+      if (!side_by_side(level, threads_, [&](int k) {
+            DenseFront& front = fronts_[static_cast<std::size_t>(k)];
+            front.assemble(a.valuePtr());
+            const SeparatorTree::Node& node = front_node(k);
+            for (int i = 0; i < 2; ++i) {
+              const int c = node.children[i], part = part_of_[static_cast<std::size_t>(c)];
+              if (tree_.nodes()[static_cast<std::size_t>(c)].domain()) {
+                front.add(i, updates_[static_cast<std::size_t>(part)]);
+                updates_[static_cast<std::size_t>(part)].resize(0, 0);
+              } else {
+                front.add(i, fronts_[static_cast<std::size_t>(part)].update());
+                fronts_[static_cast<std::size_t>(part)].drop_update();
+              }
+            }
+            return front.factorise();
+          }))
+        return false;
     return true;
   }
-  // T = C_0 C_0^T + C_1 C_1^T - K_SS and its LL^T (LAPACK, the configured BLAS threads); false where T is
-  // not positive definite.
-  bool schur(const SpMat& a) {
-    const int s = static_cast<int>(separator_.size());
-    t_.setZero(s, s);
-    const Half& h = *halves_[0];  // -K_SS's lower triangle, from the first half's lower triangle
-    const std::vector<int>& outer = h.lower_start;
-    for (int c = 0; c < s; ++c)
-      for (auto q = static_cast<std::size_t>(outer[static_cast<std::size_t>(h.interior + c)]);
-           q < static_cast<std::size_t>(outer[static_cast<std::size_t>(h.interior + c) + 1]); ++q)
-        t_(h.lower_rows[q] - h.interior, c) = -a.valuePtr()[h.source[q]];
-    const double one = 1;
-    for (const auto& h : halves_) dsyrk_("L", "N", &s, &s, &one, h->c.data(), &s, &one, t_.data(), &s);
-    int info = 0;
-    dpotrf_("L", &s, t_.data(), &s, &info);
-    return info == 0;
+  // y[d] = L_d^-1 P_d [b_D; 0] for every domain, side by side.
+  void forward_domains(const Eigen::MatrixXd& b, std::vector<Eigen::MatrixXd>& y) const {
+    std::vector<int> all(domains_.size());
+    std::iota(all.begin(), all.end(), 0);
+    side_by_side(all, threads_, [&](int d) {
+      CholmodDomain& domain = *domains_[static_cast<std::size_t>(d)];
+      Eigen::MatrixXd local = Eigen::MatrixXd::Zero(domain.size(), b.cols());
+      for (int i = 0; i < domain.interior; ++i) local.row(i) = b.row(domain.rows[static_cast<std::size_t>(i)]);
+      y[static_cast<std::size_t>(d)] = domain.solve(CHOLMOD_L, domain.solve(CHOLMOD_P, local));
+      return true;
+    });
+  }
+  // r[k] for every front, bottom up: b's rows of the separator, the children's parts added, forward solved.
+  void forward_fronts(const Eigen::MatrixXd& b, const std::vector<Eigen::MatrixXd>& y,
+                      std::vector<Eigen::MatrixXd>& r) const {
+    for (std::size_t k = 0; k < fronts_.size(); ++k) {
+      const DenseFront& front = fronts_[k];
+      const SeparatorTree::Node& node = front_node(static_cast<int>(k));
+      Eigen::MatrixXd& rk = r[k];
+      rk.setZero(front.separator() + front.boundary(), b.cols());
+      rk.topRows(front.separator()) = b(node.rows, Eigen::all);
+      for (int i = 0; i < 2; ++i) {
+        const int c = node.children[i], part = part_of_[static_cast<std::size_t>(c)];
+        Eigen::MatrixXd up;
+        if (tree_.nodes()[static_cast<std::size_t>(c)].domain()) {
+          const CholmodDomain& domain = *domains_[static_cast<std::size_t>(part)];
+          up.noalias() = domain.c * y[static_cast<std::size_t>(part)].bottomRows(domain.boundary());
+        } else {
+          const DenseFront& child = fronts_[static_cast<std::size_t>(part)];
+          up = r[static_cast<std::size_t>(part)].bottomRows(child.boundary());
+        }
+        const std::vector<int>& map = front.child_map(i);
+        for (std::size_t q = 0; q < map.size(); ++q) rk.row(map[q]) += up.row(static_cast<Eigen::Index>(q));
+      }
+      front.forward(rk);
+    }
   }
   std::string memory_refusal() const {
     const double limit = factorization_memory_limit(options_.memory_limit_megabytes);
     if (limit <= 0) return {};
-    double needed = 3.0 * static_cast<double>(separator_.size() * separator_.size());
-    for (const auto& h : halves_)
-      if (h->factor->xtype == CHOLMOD_PATTERN) needed += static_cast<double>(h->factor->xsize + h->factor->maxcsize);
+    double needed = 0;
+    for (const auto& d : domains_) {
+      const double b = d->boundary();
+      needed += 2 * b * b;  // C and the update
+      if (!d->factored()) needed += static_cast<double>(d->factor->xsize + d->factor->maxcsize);
+    }
+    for (const auto& f : fronts_) needed += std::pow(f.separator() + f.boundary(), 2);
     needed *= sizeof(double);
     if (needed <= limit) return {};
-    return "CHOLMOD's two factors would need " + std::to_string(std::lround(needed / (1 << 20))) +
-           " MB, more than the limit of " + std::to_string(std::lround(limit / (1 << 20))) + " MB";
+    return "CHOLMOD's domain factors and the separators' fronts would need " +
+           std::to_string(std::lround(needed / (1 << 20))) + " MB, more than the limit of " +
+           std::to_string(std::lround(limit / (1 << 20))) + " MB";
   }
 
   CholmodSplitOptions options_;
+  int threads_ = 1;
   bool split_ = false, factored_ = false;
-  std::array<std::unique_ptr<Half>, 2> halves_;
-  std::vector<int> partition_;  // of the last bisection: 0 or 1, the half of each row; 2 the separator
-  std::vector<int> separator_;
-  Eigen::MatrixXd t_;  // the separator's Schur complement's LL^T factor (lower)
+  SeparatorTree tree_;
+  std::vector<int> domain_nodes_, front_nodes_;  // the tree's nodes of the domains and of the fronts
+  std::vector<int> part_of_;  // of each tree node: its index in domains_ or fronts_
+  std::vector<std::unique_ptr<CholmodDomain>> domains_;
+  std::vector<int> domain_order_;  // the domains by their flops, the largest first (the schedule)
+  std::vector<Eigen::MatrixXd> updates_;  // the domains' updates, between the domains and the fronts
+  std::vector<DenseFront> fronts_;  // in postorder
+  std::vector<std::vector<int>> heights_;  // the fronts of height 1, 2, ...
   std::unique_ptr<LinearSolver> whole_;
   std::string refusal_;
+  long factorisations_ = 0;  // split factorisations, and the wall time of their two phases
+  double domain_seconds_ = 0, front_seconds_ = 0;
 };
 
 }  // namespace
@@ -405,6 +389,11 @@ std::unique_ptr<LinearSolver> make_cholmod_split_llt(const CholmodSplitOptions& 
 long cholmod_split_separator(const LinearSolver& solver) {
   const auto* split = dynamic_cast<const CholmodSplitSolver*>(&solver);
   return split ? split->separator() : 0;
+}
+
+int cholmod_split_domains(const LinearSolver& solver) {
+  const auto* split = dynamic_cast<const CholmodSplitSolver*>(&solver);
+  return split ? split->domain_count() : 0;
 }
 
 std::vector<int> cholmod_split_pivot_order(const LinearSolver& solver) {

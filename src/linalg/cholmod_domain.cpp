@@ -1,0 +1,127 @@
+// One domain of the split Cholesky: CHOLMOD's LL^T with the boundary last (the algebra is in the header).
+#include "linalg/cholmod_domain.hpp"
+
+#include <algorithm>
+#include <limits>
+
+extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
+                       const double* a, const int* lda, const double* beta, double* c, const int* ldc);
+
+namespace fibrane::solve {
+
+CholmodDomain::CholmodDomain() {
+  cholmod_start(&common);
+  common.print = 0;
+  common.supernodal = CHOLMOD_SUPERNODAL;
+}
+
+CholmodDomain::~CholmodDomain() {
+  cholmod_free_factor(&factor, &common);
+  permuted.clear();
+  cholmod_finish(&common);
+}
+
+bool CholmodDomain::analyse(const Eigen::SparseMatrix<double>& a) {
+  lower = principal_lower(a, rows);
+  // CAMD's constrained minimum degree (the boundary a constraint set after the interior), which needed
+  // fewer flops than METIS's order of the interior alone or of the whole domain with the boundary moved
+  // last (docs/performance.md, "The factorisation's input").
+  std::vector<int> order(static_cast<std::size_t>(size())), member(order.size(), 0);
+  std::fill(member.begin() + interior, member.end(), 1);
+  cholmod_sparse hv = cholmod_lower_view(size(), lower.column_start.data(), lower.row.data(), nullptr);
+  if (!cholmod_camd(&hv, nullptr, 0, member.data(), order.data(), &common)) return false;
+  // CHOLMOD's postorder of the elimination tree keeps the boundary, the top of its tree, last, unless the
+  // interior has parts that the boundary does not join (a forest), whose trees the postorder may put after
+  // it: then CAMD's order is taken as it is.
+  for (const bool postorder : {true, false}) {
+    cholmod_free_factor(&factor, &common);
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_GIVEN;
+    common.postorder = postorder;
+    factor = cholmod_analyze_p(&hv, order.data(), nullptr, 0, &common);
+    common.nmethods = 0;
+    common.postorder = true;
+    flops = common.fl;
+    if (!factor || !factor->is_super) return false;
+    if (boundary_last()) return true;
+  }
+  return false;
+}
+
+// Whether the factor's order keeps the boundary last; boundary_order[t]: the boundary row of the factor's
+// column interior + t.
+bool CholmodDomain::boundary_last() {
+  const auto* perm = static_cast<const int*>(factor->Perm);
+  boundary_order.assign(perm + interior, perm + size());
+  std::vector<char> seen(static_cast<std::size_t>(boundary()), 0);
+  for (int& r : boundary_order) {
+    r -= interior;
+    if (r < 0 || seen[static_cast<std::size_t>(r)]) return false;
+    seen[static_cast<std::size_t>(r)] = 1;
+  }
+  return true;
+}
+
+bool CholmodDomain::factorise(const Eigen::SparseMatrix<double>& a) {
+  if (!permuted.built()) {
+    cholmod_sparse hv = cholmod_lower_view(size(), lower.column_start.data(), lower.row.data(), nullptr);
+    if (!permuted.build(hv, *factor, common)) return false;
+    permuted.map_through(lower.source);
+  }
+  double beta[2] = {0, 0};
+  const int ok = cholmod_super_numeric(permuted.fill(a.valuePtr()), nullptr, beta, factor, &common);
+  permuted.drop_values();
+  if (!ok || common.status != CHOLMOD_OK || factor->minor < factor->n) return false;
+  // C: the columns from the interior's end on, in their supernodes (column-major blocks of nsrow rows).
+  const int b = boundary();
+  c.setZero(b, b);
+  const auto* super = static_cast<const int*>(factor->super);
+  const auto* pi = static_cast<const int*>(factor->pi);
+  const auto* px = static_cast<const int*>(factor->px);
+  const auto* ls = static_cast<const int*>(factor->s);
+  const auto* lx = static_cast<const double*>(factor->x);
+  for (size_t sn = 0; sn < factor->nsuper; ++sn) {
+    const int k1 = super[sn], k2 = super[sn + 1], nsrow = pi[sn + 1] - pi[sn];
+    for (int j = std::max(k1, interior); j < k2; ++j)
+      for (int r = j - k1; r < nsrow; ++r)
+        c(boundary_order[static_cast<std::size_t>(ls[pi[sn] + r] - interior)], j - interior) =
+            lx[px[sn] + (j - k1) * nsrow + r];
+  }
+  return true;
+}
+
+Eigen::MatrixXd CholmodDomain::update(const Eigen::SparseMatrix<double>& a) const {
+  const int b = boundary();
+  Eigen::MatrixXd u = Eigen::MatrixXd::Zero(b, b);
+  for (int col = 0; col < b; ++col)  // -K_BB's lower triangle, from the domain's lower triangle
+    for (auto q = static_cast<std::size_t>(lower.column_start[static_cast<std::size_t>(interior + col)]);
+         q < static_cast<std::size_t>(lower.column_start[static_cast<std::size_t>(interior + col) + 1]); ++q)
+      u(lower.row[q] - interior, col) = -a.valuePtr()[lower.source[q]];
+  const double one = 1;
+  if (b > 0) dsyrk_("L", "N", &b, &b, &one, c.data(), &b, &one, u.data(), &b);
+  return u;
+}
+
+Eigen::MatrixXd CholmodDomain::solve(int sys, const Eigen::MatrixXd& b) {
+  cholmod_dense in{};
+  in.nrow = static_cast<size_t>(b.rows());
+  in.ncol = static_cast<size_t>(b.cols());
+  in.nzmax = in.nrow * in.ncol;
+  in.d = in.nrow;
+  in.x = const_cast<double*>(b.data());
+  in.xtype = CHOLMOD_REAL;
+  in.dtype = CHOLMOD_DOUBLE;
+  cholmod_dense* out = cholmod_solve(sys, factor, &in, &common);
+  if (!out) return Eigen::MatrixXd::Constant(b.rows(), b.cols(), std::numeric_limits<double>::quiet_NaN());
+  Eigen::MatrixXd x = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(out->x), b.rows(), b.cols());
+  cholmod_free_dense(&out, &common);
+  return x;
+}
+
+void CholmodDomain::release() {
+  if (!factor) return;
+  cholmod_change_factor(CHOLMOD_PATTERN, factor->is_ll, factor->is_super, true, true, factor, &common);
+  permuted.release_values();
+}
+
+}  // namespace fibrane::solve

@@ -1,0 +1,174 @@
+// Nested dissection (SeparatorTree) and the split Cholesky on more than two domains
+// (make_cholmod_split_llt with levels 2 and 3): the tree divides the graph and its boundaries are the
+// fronts' row sets; the solutions are the whole factorisation's to round-off.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <set>
+
+#include "grid_matrix.hpp"
+#include "linalg/cholmod_split.hpp"
+#include "linalg/direct_solvers.hpp"
+#include "linalg/linear_solver.hpp"
+#include "linalg/separator_tree.hpp"
+
+namespace fibrane::solve {
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+
+// 10 000 unknowns: three levels leave domains of ~1 200 rows. SPD with condition ~ 5 (grid_matrix).
+SpMat spd(unsigned seed) { return grid_matrix(100, 2.0, 0.0, 0.3, seed); }
+
+// The rows of node t's subtree.
+std::set<int> subtree_rows(const SeparatorTree& tree, int t) {
+  std::set<int> rows;
+  for (int k = tree.nodes()[static_cast<std::size_t>(t)].first; k <= t; ++k)
+    rows.insert(tree.nodes()[static_cast<std::size_t>(k)].rows.begin(), tree.nodes()[static_cast<std::size_t>(k)].rows.end());
+  return rows;
+}
+
+TEST(SeparatorTree, DividesTheGraphAndBoundsEachSubtree) {
+  const SpMat a = spd(1);
+  SeparatorTree tree;
+  ASSERT_TRUE(tree.build(a, {.levels = 3, .min_rows = 1000, .max_separator = 5000}));
+  EXPECT_EQ(tree.domains(), 8);
+  EXPECT_EQ(tree.nodes().size(), 15u);
+  EXPECT_TRUE(tree.divides(a));
+  // every row in one node; positions a permutation
+  std::vector<int> positions;
+  for (int r = 0; r < a.rows(); ++r) positions.push_back(tree.position(r));
+  std::sort(positions.begin(), positions.end());
+  for (int r = 0; r < a.rows(); ++r) ASSERT_EQ(positions[static_cast<std::size_t>(r)], r);
+  // The boundary of every node is exactly the set of rows outside its subtree that an entry joins to a
+  // row inside it (the rows its subtree's elimination couples), and those are rows of its ancestors.
+  for (int t = 0; t < static_cast<int>(tree.nodes().size()); ++t) {
+    const std::set<int> inside = subtree_rows(tree, t);
+    std::set<int> expected;
+    for (int j = 0; j < a.cols(); ++j)
+      for (SpMat::InnerIterator it(a, j); it; ++it)
+        if (inside.count(j) && !inside.count(static_cast<int>(it.row()))) expected.insert(static_cast<int>(it.row()));
+    const std::vector<int>& boundary = tree.nodes()[static_cast<std::size_t>(t)].boundary;
+    EXPECT_EQ(std::set<int>(boundary.begin(), boundary.end()), expected) << "node " << t;
+    EXPECT_TRUE(std::is_sorted(boundary.begin(), boundary.end(),
+                               [&](int x, int y) { return tree.position(x) < tree.position(y); }));
+    for (const int r : boundary) EXPECT_TRUE(tree.above(tree.node_of(r), t));
+  }
+  // an entry joining two domains of different halves no longer fits the tree
+  const auto& nodes = tree.nodes();
+  const int first = nodes.front().rows.front(), last = nodes[nodes.size() - 2].rows.front();
+  SpMat joined = a;
+  joined.coeffRef(first, last) = joined.coeffRef(last, first) = -0.01;
+  joined.makeCompressed();
+  EXPECT_FALSE(tree.divides(joined));
+}
+
+// The split solver with `levels` levels for matrices from 1 000 unknowns on, with `threads` threads.
+std::unique_ptr<LinearSolver> split_solver(int levels, int threads) {
+  omp_set_num_threads(threads);
+  return make_cholmod_split_llt({.memory_limit_megabytes = kAvailableMemory, .min_unknowns = 1000,
+                                 .max_separator = 5000, .max_work_share = 0.75, .levels = levels});
+}
+
+Eigen::MatrixXd whole_solve(const SpMat& a, const Eigen::MatrixXd& b) {
+  auto whole = make_cholmod_llt();
+  whole->analyze(a);
+  EXPECT_TRUE(whole->factorize(a));
+  return whole->solve_columns(b);
+}
+
+double relative(const Eigen::MatrixXd& x, const Eigen::MatrixXd& ref) { return (x - ref).norm() / ref.norm(); }
+
+class SplitLevels : public ::testing::TestWithParam<int> {};
+
+TEST_P(SplitLevels, SolvesAsTheWholeFactorisation) {
+  const int levels = GetParam();
+  const SpMat a = spd(1), a2 = spd(2);
+  auto solver = split_solver(levels, 4);
+  solver->analyze(a);
+  EXPECT_EQ(cholmod_split_domains(*solver), 1 << levels) << solver->analysis_summary();
+  ASSERT_TRUE(solver->factorize(a));
+  EXPECT_EQ(solver->negative_eigenvalues(), 0);
+  Eigen::MatrixXd b(a.rows(), 3);
+  b << Eigen::VectorXd::LinSpaced(a.rows(), -1.0, 2.0), Eigen::VectorXd::Ones(a.rows()),
+      Eigen::VectorXd::LinSpaced(a.rows(), 3.0, 0.5).array().sin().matrix();
+  // condition ~5: the two factorisations' solutions agree to a few ulps times that
+  const Eigen::MatrixXd x = solver->solve_columns(b);
+  EXPECT_LT(relative(x, whole_solve(a, b)), 1e-14);
+  EXPECT_LT(relative(solver->solve(b.col(0)), whole_solve(a, b.col(0))), 1e-14);
+  EXPECT_LT((a * x - b).norm(), 1e-13 * b.norm());
+  // new values of the pattern, after the factor was handed back
+  solver->release_factor();
+  EXPECT_EQ(solver->held_factor_entries(), 0);
+  ASSERT_TRUE(solver->factorize(a2));
+  EXPECT_EQ(solver->held_factor_entries(), solver->factor_nonzeros());
+  const Eigen::MatrixXd ref2 = whole_solve(a2, b);
+  EXPECT_LT(relative(solver->solve_columns(b), ref2), 1e-14);
+  EXPECT_GT(relative(ref2, x), 1e-6);  // the values did change the solution
+}
+
+TEST_P(SplitLevels, ThePivotOrderIsAPermutation) {
+  auto solver = split_solver(GetParam(), 2);
+  const SpMat a = spd(1);
+  solver->analyze(a);
+  std::vector<int> order = cholmod_pivot_order(*solver);
+  ASSERT_EQ(order.size(), static_cast<std::size_t>(a.rows()));
+  std::sort(order.begin(), order.end());
+  for (int r = 0; r < a.rows(); ++r) ASSERT_EQ(order[static_cast<std::size_t>(r)], r);
+}
+
+TEST_P(SplitLevels, AnIndefiniteMatrixIsRefused) {
+  auto solver = split_solver(GetParam(), 4);
+  solver->analyze(grid_matrix(100, -1.3, 0.0));
+  ASSERT_GT(cholmod_split_domains(*solver), 0);
+  EXPECT_FALSE(solver->factorize(grid_matrix(100, -1.3, 0.0)));
+  EXPECT_EQ(solver->negative_eigenvalues(), -1);
+  ASSERT_TRUE(solver->factorize(grid_matrix(100, 0.1, 0.0)));  // and the pattern serves again
+}
+
+INSTANTIATE_TEST_SUITE_P(Levels, SplitLevels, ::testing::Values(1, 2, 3));
+
+TEST(SplitLevels, TheThreadsSetTheDomains) {
+  const SpMat a = spd(1);
+  for (const auto& [threads, domains] : {std::pair{2, 2}, {3, 4}, {4, 4}, {8, 8}}) {
+    auto solver = split_solver(0, threads);
+    solver->analyze(a);
+    EXPECT_EQ(cholmod_split_domains(*solver), domains) << threads << " threads";
+  }
+}
+
+// The last place where two pivot orders differ (-1 where they are equal).
+long last_difference(const std::vector<int>& x, const std::vector<int>& y) {
+  for (auto k = static_cast<long>(x.size()) - 1; k >= 0; --k)
+    if (x[static_cast<std::size_t>(k)] != y[static_cast<std::size_t>(k)]) return k;
+  return -1;
+}
+
+TEST(SplitLevels, ANewPatternWithinADomainKeepsTheTree) {
+  auto solver = split_solver(2, 4);
+  const SpMat a = spd(1);
+  solver->analyze(a);
+  const std::vector<int> order = cholmod_pivot_order(*solver);
+  const auto quarter = static_cast<long>(order.size() / 4);
+  // an entry between the first domain's first two pivots
+  SpMat within = a;
+  within.coeffRef(order[0], order[1]) = within.coeffRef(order[1], order[0]) = -0.05;
+  within.makeCompressed();
+  // a fresh solver divides the new pattern otherwise: its order differs beyond the first domain
+  auto fresh = split_solver(2, 4);
+  fresh->analyze(within);
+  ASSERT_GT(last_difference(cholmod_pivot_order(*fresh), order), quarter);
+  // the kept tree: only the first domain (the first pivots, less than a quarter) is ordered anew
+  solver->analyze(within);
+  const std::vector<int> kept = cholmod_pivot_order(*solver);
+  const long last = last_difference(kept, order);
+  EXPECT_LT(last, quarter);
+  EXPECT_EQ(std::set<int>(kept.begin(), kept.begin() + last + 1), std::set<int>(order.begin(), order.begin() + last + 1));
+  ASSERT_TRUE(solver->factorize(within));
+  const Eigen::MatrixXd b = Eigen::VectorXd::LinSpaced(a.rows(), 1.0, -1.0);
+  EXPECT_LT(relative(solver->solve_columns(b), whole_solve(within, b)), 1e-14);
+}
+
+}  // namespace
+}  // namespace fibrane::solve
