@@ -8,7 +8,8 @@
 // system time on an idle machine and whole factorisations' worth of time on a busy one (docs/performance.md,
 // "OpenBLAS threads: pthreads or OpenMP build"). OMP_THREAD_LIMIT (the cores, or --threads N) caps every
 // region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep instead of spinning. A
-// user's own setting of either variable is kept; likewise glibc's malloc tunables below.
+// user's own setting of either variable is kept; likewise glibc's malloc tunables and OpenBLAS's kernel
+// below.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::app {
 namespace {
@@ -56,6 +58,14 @@ void configure_openmp_environment(int argc, char** argv) {
   if (!std::getenv("GLIBC_TUNABLES")) {
     setenv("GLIBC_TUNABLES", "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184", 1);
     changed = true;
+  }
+  // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (solve/linear_solver.hpp,
+  // blas_core_upgrade); it reads OPENBLAS_CORETYPE when it is loaded.
+  if (!std::getenv("OPENBLAS_CORETYPE")) {
+    if (const std::string core = solve::blas_core_upgrade(); !core.empty()) {
+      setenv("OPENBLAS_CORETYPE", core.c_str(), 1);
+      changed = true;
+    }
   }
   if (changed) execv("/proc/self/exe", argv);  // on failure: go on with the settings as they are
 }

@@ -118,6 +118,17 @@ void set_thread_count(int n);
 // OpenBLAS's current thread count (openblas_get_num_threads), or -1 if the BLAS is not OpenBLAS.
 int blas_thread_count();
 
+// The kernel (a value of OPENBLAS_CORETYPE) that suits this processor where the loaded OpenBLAS chose an
+// older one than the processor runs, as a DYNAMIC_ARCH OpenBLAS does for a processor its table does not
+// know (Debian 12's 0.3.21 takes a virtual machine's "Intel(R) Xeon(R) Processor" with AVX-512 for a
+// Prescott, at a third of the dense speed: docs/performance.md, "Threads on a 16-core machine"); empty
+// where its choice is fitting or the BLAS is not OpenBLAS. OpenBLAS reads the variable when it is loaded:
+// `fibrane` sets it in its re-execution (app/openmp_environment.cpp) unless the user has set it.
+std::string blas_core_upgrade();
+// The rule behind it: for OpenBLAS's chosen core (openblas_get_corename) and whether the processor and the
+// system support AVX-512 (F, CD, DQ, BW and VL), and AVX2 with FMA: "SkylakeX", "Haswell" or empty.
+std::string blas_core_upgrade(const std::string& chosen, bool avx512, bool avx2_fma);
+
 // For its lifetime, one BLAS thread if a factorisation is small (`factor_nonzeros` below
 // kSmallFactorEntries): its dense blocks are too small to share, and on a busy 2-core machine a second BLAS
 // thread made the peeling example's factorisation (2.0 M factor entries) several times slower. Larger

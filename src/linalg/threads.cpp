@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <cctype>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,34 @@ BlasThreadsForFactor::BlasThreadsForFactor(long factor_nonzeros) {
 
 BlasThreadsForFactor::~BlasThreadsForFactor() {
   if (restore_ > 0) set_blas_threads(restore_);
+}
+
+std::string blas_core_upgrade(const std::string& chosen, bool avx512, bool avx2_fma) {
+  // OpenBLAS's x86-64 cores without AVX2 kernels (its names, compared without case)
+  static const char* const kOld[] = {"prescott", "core2",   "penryn",    "dunnington", "nehalem",   "atom",
+                                     "opteron",  "barcelona", "bobcat",  "athlon",     "sandybridge", "bulldozer",
+                                     "piledriver", "katmai", "coppermine", "northwood",
+                                     "banias",   "unknown"};
+  std::string name = chosen;
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  const bool old = std::find(std::begin(kOld), std::end(kOld), name) != std::end(kOld);
+  if (!old) return {};
+  if (avx512) return "SkylakeX";
+  if (avx2_fma) return "Haswell";
+  return {};
+}
+
+std::string blas_core_upgrade() {
+  using CoreName = char* (*)();
+  const std::vector<CoreName> names = blas_functions<CoreName>("openblas_get_corename");
+  if (names.empty()) return {};
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512vl");
+  const bool avx2_fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  for (CoreName f : names)  // every loaded OpenBLAS: the first whose choice is too old decides
+    if (std::string upgrade = blas_core_upgrade(f(), avx512, avx2_fma); !upgrade.empty()) return upgrade;
+  return {};
 }
 
 }  // namespace fibrane::solve

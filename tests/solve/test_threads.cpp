@@ -1,6 +1,12 @@
-// set_thread_count: the thread pools of OpenMP and of OpenBLAS follow it.
+// set_thread_count: the thread pools of OpenMP and of OpenBLAS follow it. blas_core_upgrade: an OpenBLAS
+// that chose an older kernel than the processor runs is given a fitting one.
+#include <dlfcn.h>
+#include <unistd.h>
 #include <gtest/gtest.h>
 #include <omp.h>
+
+#include <cstdlib>
+#include <string>
 
 #include "linalg/linear_solver.hpp"
 
@@ -19,6 +25,49 @@ TEST(Threads, SetThreadCountBoundsOpenMpAndOpenBlas) {
   set_thread_count(0);  // no change
   EXPECT_EQ(omp_get_max_threads(), 1);
   set_thread_count(before);
+}
+
+TEST(BlasCore, TheRuleUpgradesOldKernelsOnlyWhereTheProcessorRunsNewerOnes) {
+  EXPECT_EQ(blas_core_upgrade("Prescott", true, true), "SkylakeX");
+  EXPECT_EQ(blas_core_upgrade("Prescott", false, true), "Haswell");
+  EXPECT_EQ(blas_core_upgrade("Prescott", false, false), "");  // a processor without AVX2 keeps it
+  EXPECT_EQ(blas_core_upgrade("NEHALEM", false, true), "Haswell");
+  EXPECT_EQ(blas_core_upgrade("Unknown", true, true), "SkylakeX");
+  for (const char* fitting : {"Haswell", "SkylakeX", "Zen", "CooperLake", "SapphireRapids", "Excavator"})
+    EXPECT_EQ(blas_core_upgrade(fitting, true, true), "") << fitting;
+}
+
+// The expected upgrade of a Prescott choice on this processor.
+std::string expected_from_prescott() {
+  const bool avx512 = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+                      __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
+                      __builtin_cpu_supports("avx512vl");
+  return avx512 ? "SkylakeX" : __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") ? "Haswell" : "";
+}
+
+// OpenBLAS reads OPENBLAS_CORETYPE when it is loaded: the test runs itself again with Prescott forced (the
+// choice Debian's OpenBLAS made on a virtual machine's Xeon) and reads OpenBLAS's choice in that process.
+TEST(BlasCore, APrescottChoiceIsUpgradedToWhatThisProcessorRuns) {
+  const char* forced = std::getenv("OPENBLAS_CORETYPE");
+  if (forced && std::string(forced) == "Prescott") {  // the child
+    using CoreName = char* (*)();
+    auto* name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+    ASSERT_NE(name, nullptr);
+    ASSERT_EQ(std::string(name()), "Prescott");
+    EXPECT_EQ(blas_core_upgrade(), expected_from_prescott());
+    return;
+  }
+  if (expected_from_prescott().empty()) GTEST_SKIP() << "this processor has no AVX2: Prescott's kernels may fit";
+  const std::string command = "OPENBLAS_CORETYPE=Prescott /proc/" + std::to_string(getpid()) +
+                              "/exe --gtest_filter=BlasCore.APrescottChoiceIsUpgradedToWhatThisProcessorRuns "
+                              "> /dev/null 2>&1";
+  EXPECT_EQ(std::system(command.c_str()), 0);
+  // and this process's OpenBLAS, left to its own choice on this machine, is not upgraded unless it chose
+  // an old kernel
+  using CoreName = char* (*)();
+  auto* name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  ASSERT_NE(name, nullptr);
+  EXPECT_EQ(blas_core_upgrade().empty(), blas_core_upgrade(name(), true, true).empty());
 }
 
 }  // namespace
