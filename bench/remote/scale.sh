@@ -9,9 +9,10 @@
 #      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped;
 #   4. (only when PARTS names it) the quarter's three steps at 4 threads, and the 278 k step on 16
 #      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES;
-#   5. (only when PARTS names it) the quarter's three steps by bench_newton_breakdown (where the time goes,
-#      per phase) at 2, 4 and 16 threads, and at 16 threads with OpenBLAS's OpenMP build, its threads
-#      sleeping (OMP_WAIT_POLICY=passive, as fibrane sets it) and spinning (active);
+#   5. (only when PARTS names it) the BLAS alone (bench_dense_blas: OpenBLAS's kernel for the processor,
+#      dgemm and dpotrf of 3000 x 3000 at 1, 2, 4, 8 and 16 threads), then the quarter's three steps by bench_newton_breakdown
+#      (where the time goes, per phase) at 2, 16 and 4 threads (the case's split Cholesky: as many domains
+#      as threads), at 16 threads factorised whole (split: false), and at 8 threads;
 #   6. (only when PARTS names it) the 1.1 M membrane's first step in one process of 16 threads on the
 #      in-memory default path (the case without out_of_core): time per Newton iteration and peak memory.
 #   7. (only when PARTS names it) memory over time, for the size estimate of src/case/case_limits.cpp: the
@@ -180,13 +181,21 @@ if part 4; then
   pack
 fi
 if part 5; then
-  say "== 5. the quarter's three steps, per phase: 2, 4, 16 threads; 16 with OpenBLAS's OpenMP build"
+  say "== 5. the BLAS alone; the quarter's three steps, per phase: 2, 4, 16 threads; 16 factorised whole"
+  LD_LIBRARY_PATH="$libs" timeout 60 bench_dense_blas --size 3000 1 2 4 8 16 2>&1 | tee -a "$log"
+  # the bench programs do not re-execute themselves as fibrane does: give them fibrane's OpenBLAS kernel
+  core=$(LD_LIBRARY_PATH="$libs" bench_dense_blas --upgrade)
+  if [ -n "$core" ] && [ -z "${OPENBLAS_CORETYPE:-}" ]; then
+    export OPENBLAS_CORETYPE=$core
+    say "OPENBLAS_CORETYPE=$core (as fibrane sets it on this machine)"
+    LD_LIBRARY_PATH="$libs" timeout 60 bench_dense_blas --size 3000 1 2 4 8 16 2>&1 | tee -a "$log"
+  fi
+  sed -e 's/split: true/split: false/' "$work/q3.yaml" > "$work/q3-whole.yaml"
   breakdown q3-bd-t2 2 150 "$work/q3.yaml"
-  breakdown q3-bd-t4 4 110 "$work/q3.yaml"
   breakdown q3-bd-t16 16 100 "$work/q3.yaml"
-  omp_blas=$work/bundle/lib-openblas-openmp
-  breakdown q3-bd-t16-ompblas 16 100 "$work/q3.yaml" LD_LIBRARY_PATH="$omp_blas:$libs"
-  breakdown q3-bd-t16-ompblas-active 16 100 "$work/q3.yaml" LD_LIBRARY_PATH="$omp_blas:$libs" OMP_WAIT_POLICY=active
+  breakdown q3-bd-t4 4 110 "$work/q3.yaml"
+  breakdown q3-bd-t16-whole 16 100 "$work/q3-whole.yaml"
+  breakdown q3-bd-t8 8 100 "$work/q3.yaml"
   pack
 fi
 
