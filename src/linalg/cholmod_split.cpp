@@ -82,6 +82,7 @@ class CholmodSplitSolver final : public LinearSolver {
     });
     const auto t1 = std::chrono::steady_clock::now();
     factored_ = domains_ok && factorise_fronts(a);
+    if (!factored_) ++(domains_ok ? front_refusals_ : domain_refusals_);
     updates_.clear();
     domain_seconds_ += std::chrono::duration<double>(t1 - t0).count();
     front_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
@@ -144,8 +145,10 @@ class CholmodSplitSolver final : public LinearSolver {
     }
     std::string summary = text;
     if (factorisations_ > 0) {  // the solver's whole life, over all patterns
-      std::snprintf(text, sizeof text, "; %ld split factorisations: domains %.1f s, fronts %.1f s", factorisations_,
-                    domain_seconds_, front_seconds_);
+      std::snprintf(text, sizeof text,
+                    "; %ld split factorisations: domains %.1f s, fronts %.1f s; not positive definite: %ld in a "
+                    "domain, %ld in a front",
+                    factorisations_, domain_seconds_, front_seconds_, domain_refusals_, front_refusals_);
       summary += text;
     }
     return summary;
@@ -377,6 +380,7 @@ class CholmodSplitSolver final : public LinearSolver {
   std::unique_ptr<LinearSolver> whole_;
   std::string refusal_;
   long factorisations_ = 0;  // split factorisations, and the wall time of their two phases
+  long domain_refusals_ = 0, front_refusals_ = 0;  // where the matrix was found not positive definite
   double domain_seconds_ = 0, front_seconds_ = 0;
 };
 

@@ -109,7 +109,7 @@ class AutoSolver final : public LinearSolver {
   }
 
  private:
-  bool split_;  // the LL^T in two halves (cholmod_split.hpp)
+  bool split_;  // the LL^T in domains side by side (cholmod_split.hpp)
   bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
       if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_), .out_of_core_directory = {}});

@@ -76,8 +76,9 @@ struct LinearSolverSettings {
   // Non-empty: MUMPS factorisations out of core, the factor in files in this directory (the symmetric
   // chain's LL^T becomes MUMPS's LDL^T, as for single precision); the solves are exact.
   std::string out_of_core_directory;
-  // CHOLMOD's LL^T (kinds auto and cholmod) in two halves side by side at METIS's top separator, from
-  // 100 000 unknowns on with two threads or more (linalg/cholmod_split.hpp); case key steps.split.
+  // CHOLMOD's LL^T (kinds auto and cholmod) in domains side by side below METIS's separators, as many as
+  // threads, from 100 000 unknowns on with two threads or more (linalg/cholmod_split.hpp); case key
+  // steps.split.
   bool split = false;
   bool krylov = false;   // KrylovReuseSolver around the direct solver (always with single or low_rank)
   double krylov_tolerance = 1e-8;
@@ -107,7 +108,7 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
 // through its 64-bit integer interface) may be asked for directly.
 // Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false;
 // "mumps" without MUMPS in the build is an InputError too.
-// split: CHOLMOD's LL^T of "auto" and "cholmod" in two halves (LinearSolverSettings::split).
+// split: CHOLMOD's LL^T of "auto" and "cholmod" in domains side by side (LinearSolverSettings::split).
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split = false);
 
 // Bounds every thread pool the solvers and the assembly use to n threads (n <= 0: no change): OpenMP's
