@@ -129,6 +129,34 @@ TEST_P(SplitLevels, AnIndefiniteMatrixIsRefused) {
 
 INSTANTIATE_TEST_SUITE_P(Levels, SplitLevels, ::testing::Values(1, 2, 3));
 
+// The solver's account (linear_solver_statistics) says where it found a matrix not positive definite: a
+// matrix indefinite everywhere fails in a domain; one whose separator's diagonal is lowered just until the
+// whole matrix is indefinite (the whole CHOLMOD factorisation tells) fails in the separator's front, the
+// domains (each with the separator's rows) staying positive definite.
+TEST(SplitLevels, TheAccountSaysWhereTheMatrixWasIndefinite) {
+  auto solver = split_solver(1, 2);
+  const SpMat a = grid_matrix(100, 0.01, 0.0);
+  solver->analyze(a);
+  ASSERT_EQ(cholmod_split_domains(*solver), 2);
+  EXPECT_FALSE(solver->factorize(grid_matrix(100, -1.3, 0.0)));
+  EXPECT_NE(solver->analysis_summary().find("not positive definite: 1 in a domain, 0 in a front"), std::string::npos)
+      << solver->analysis_summary();
+  const std::vector<int> order = cholmod_pivot_order(*solver);
+  const long s = cholmod_split_separator(*solver);
+  auto whole = make_cholmod_llt();
+  whole->analyze(a);
+  for (double lowered = 0.0; lowered < 4.0; lowered += 0.005) {
+    SpMat b = a;
+    for (auto k = order.size() - static_cast<std::size_t>(s); k < order.size(); ++k) b.coeffRef(order[k], order[k]) -= lowered;
+    if (whole->factorize(b)) continue;
+    EXPECT_FALSE(solver->factorize(b));
+    EXPECT_NE(solver->analysis_summary().find("not positive definite: 1 in a domain, 1 in a front"), std::string::npos)
+        << solver->analysis_summary() << " (separator's diagonal lowered by " << lowered << ")";
+    return;
+  }
+  FAIL() << "the matrix stayed positive definite";
+}
+
 TEST(SplitLevels, TheThreadsSetTheDomains) {
   const SpMat a = spd(1);
   for (const auto& [threads, domains] : {std::pair{2, 2}, {3, 4}, {4, 4}, {8, 8}}) {
