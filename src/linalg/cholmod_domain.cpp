@@ -119,6 +119,7 @@ Eigen::MatrixXd CholmodDomain::solve(int sys, const Eigen::MatrixXd& b) {
 }
 
 void CholmodDomain::release() {
+  c.resize(0, 0);
   if (!factor) return;
   cholmod_change_factor(CHOLMOD_PATTERN, factor->is_ll, factor->is_super, true, true, factor, &common);
   permuted.release_values();

@@ -44,7 +44,7 @@ struct CholmodDomain {
   Eigen::MatrixXd update(const Eigen::SparseMatrix<double>& a) const;
   /// One of CHOLMOD's solves (sys: CHOLMOD_P, CHOLMOD_L, CHOLMOD_Lt, CHOLMOD_Pt) with the factor.
   Eigen::MatrixXd solve(int sys, const Eigen::MatrixXd& b);
-  /// Frees the numeric factor (the analysis stays).
+  /// Frees the numeric factor and C (the analysis stays).
   void release();
   /// Whether a numeric factor is held.
   bool factored() const { return factor && factor->xtype != CHOLMOD_PATTERN; }
