@@ -59,7 +59,7 @@ void configure_openmp_environment(int argc, char** argv) {
     setenv("GLIBC_TUNABLES", "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184", 1);
     changed = true;
   }
-  // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (solve/linear_solver.hpp,
+  // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (linalg/linear_solver.hpp,
   // blas_core_upgrade); it reads OPENBLAS_CORETYPE when it is loaded.
   if (!std::getenv("OPENBLAS_CORETYPE")) {
     if (const std::string core = solve::blas_core_upgrade(); !core.empty()) {

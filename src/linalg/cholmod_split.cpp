@@ -206,8 +206,11 @@ class CholmodSplitSolver final : public LinearSolver {
     domains_.clear();
     fronts_.clear();
     part_of_.clear();
+    domain_nodes_.clear();
+    front_nodes_.clear();
     heights_.clear();
     domain_order_.clear();
+    updates_.clear();
     factored_ = false;
   }
   const SeparatorTree::Node& front_node(int k) const {

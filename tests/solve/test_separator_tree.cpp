@@ -157,6 +157,19 @@ TEST(SplitLevels, TheAccountSaysWhereTheMatrixWasIndefinite) {
   FAIL() << "the matrix stayed positive definite";
 }
 
+// With many threads and few fronts of a height (two fronts at height 1 of 4 domains on 16 threads), the
+// fronts are factorised one after the other on all BLAS threads instead of side by side: the same solution.
+TEST(SplitLevels, FewFrontsOnManyThreadsSolveAsTheWholeFactorisation) {
+  const SpMat a = spd(3);
+  auto solver = split_solver(2, 16);
+  solver->analyze(a);
+  ASSERT_EQ(cholmod_split_domains(*solver), 4);
+  ASSERT_TRUE(solver->factorize(a));
+  const Eigen::MatrixXd b = Eigen::VectorXd::LinSpaced(a.rows(), -2.0, 1.0);
+  EXPECT_LT(relative(solver->solve_columns(b), whole_solve(a, b)), 1e-14);
+  omp_set_num_threads(2);
+}
+
 TEST(SplitLevels, TheThreadsSetTheDomains) {
   const SpMat a = spd(1);
   for (const auto& [threads, domains] : {std::pair{2, 2}, {3, 4}, {4, 4}, {8, 8}}) {
