@@ -3,13 +3,14 @@
 
 #include "commands.hpp"
 #include "common/error.hpp"
+#include "run/process_environment.hpp"
 
 // Exit codes: 0 completed; 1 a run that did not complete (failed, out of steps) or any other error; 2 bad
 // input; 128 + signal for a run ended by SIGINT or SIGTERM. No exception leaves main.
 int main(int argc, char** argv) {
   CLI::App app{"fibrane: van der Waals interactions between beams and shells"};
   try {
-    fibrane::app::configure_openmp_environment(argc, argv);
+    fibrane::run::configure_process_environment(argc, argv);
     app.set_version_flag("--version", std::string("fibrane ") + FIBRANE_VERSION);
     app.require_subcommand(1);
     fibrane::app::register_run_command(app);

@@ -21,6 +21,7 @@
 #include "model/coupling.hpp"
 #include "run/run.hpp"
 #include "linalg/linear_solver.hpp"
+#include "run/process_environment.hpp"
 
 namespace {
 
@@ -99,6 +100,7 @@ long peak_memory_kib() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage =
       "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--assembly A]\n"
       "                              [--replace FROM TO]...\n"

@@ -19,6 +19,7 @@
 #include "case/case_reader.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/linear_solver.hpp"
+#include "run/process_environment.hpp"
 
 namespace {
 
@@ -61,6 +62,7 @@ Timed factorise_twice(LinearSolver& solver, const SpMat& a) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage = "usage: bench_separator_split CASE.yaml [--threads N] [--replace FROM TO]...\n";
   int code = 0;
   const auto path = case_arguments(argc, argv, usage, [](const std::string&, int&) { return false; }, code);

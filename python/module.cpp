@@ -10,7 +10,7 @@
 
 namespace {
 
-// The CLI gives glibc's malloc these thresholds through GLIBC_TUNABLES (app/openmp_environment.cpp says
+// The CLI gives glibc's malloc these thresholds through GLIBC_TUNABLES (run/process_environment.cpp says
 // why: the factorisation's and assembly's work arrays stay mapped between Newton iterations); a Python
 // process has started before the module loads, so they are set here, unless the user set the tunables.
 void keep_large_blocks() {

@@ -85,7 +85,7 @@ measure() {
   cp "$dir/out/summary.json" "$dir/summary.json" 2>/dev/null
 }
 # One bench_newton_breakdown run: NAME, THREADS, TIME LIMIT, CASE, then VAR=VALUE settings of the environment.
-# The environment is fibrane's own (app/openmp_environment.cpp) unless the settings replace it; the summary
+# The environment is fibrane's own (run/process_environment.cpp) unless the settings replace it; the summary
 # line has /usr/bin/time -v's figures, and the table follows it in scale.txt.
 breakdown() {
   local name=$1 threads=$2 limit=$3 case=$4; shift 4

@@ -8,7 +8,7 @@
 """
 import os as _os
 
-# The OpenMP settings the CLI gives itself (app/openmp_environment.cpp says why), read by libgomp when
+# The OpenMP settings the CLI gives itself (run/process_environment.cpp says why), read by libgomp when
 # the extension loads it: a user's own settings are kept.
 _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 _os.environ.setdefault("OMP_THREAD_LIMIT", str(_os.cpu_count() or 1))

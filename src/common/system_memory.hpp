@@ -16,13 +16,13 @@ std::uint64_t memory_limit();
 // Bytes this process can still allocate before the system (or its control group) runs out:
 // MemAvailable, or the control group's limit less its usage where that is lower, plus the bytes freed
 // inside this process that its allocator keeps for reuse (mallinfo2's fordblks: fibrane keeps freed work
-// arrays, app/openmp_environment.cpp). 0 when /proc/meminfo cannot be read.
+// arrays, run/process_environment.cpp). 0 when /proc/meminfo cannot be read.
 std::uint64_t available_memory();
 
 // Hands the whole pages inside [data, data + bytes) back to the system (madvise MADV_DONTNEED), for a
 // large buffer that is about to be freed: its contents are lost (they read as zeros until written), and
 // its place stays the allocator's. fibrane's allocator keeps freed memory resident
-// (app/openmp_environment.cpp), so a buffer replaced by a larger one would otherwise stay in the resident
+// (run/process_environment.cpp), so a buffer replaced by a larger one would otherwise stay in the resident
 // set beside its successor. The first and last 4 KiB are left alone (the allocator's own records).
 void release_pages(const void* data, std::size_t bytes);
 

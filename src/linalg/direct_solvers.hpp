@@ -9,7 +9,7 @@
 
 namespace fibrane::solve {
 
-// fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
+// fibrane keeps freed memory in the process (run/process_environment.cpp: fewer page faults per
 // iteration); a new pattern's factor is larger and rarely fits the old one's place. So every direct
 // solver's analyze() frees the last factor and then hands the freed memory back to the system
 // (malloc_trim), before the new factor is made, instead of adding to the peak.

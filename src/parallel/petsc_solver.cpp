@@ -123,7 +123,7 @@ void PetscSolver::release() {
 
 void PetscSolver::analyze(const SpMat& a) {
   release();
-  // fibrane keeps freed memory in the process (app/openmp_environment.cpp: fewer page faults per
+  // fibrane keeps freed memory in the process (run/process_environment.cpp: fewer page faults per
   // iteration); a new pattern's factor is larger and rarely fits the old one's place, so the freed
   // matrix and factor are handed back here, before the new ones are made, instead of adding to the peak.
   malloc_trim(0);

@@ -139,7 +139,7 @@ void interrupt_and_restart(int signal, int exit_code, const char* name) {
   const fs::path out = dir / "out";
   const pid_t pid = spawn_run(case_file, out);
   wait_for_rows(pid, out, 10, false);
-  // fibrane re-executes itself once at start-up (app/openmp_environment.cpp) with execv: the process that
+  // fibrane re-executes itself once at start-up (run/process_environment.cpp) with execv: the process that
   // runs the steps is the re-executed image under the pid the signal goes to.
   const std::string environ = read_file("/proc/" + std::to_string(pid) + "/environ");
   EXPECT_NE(environ.find("FIBRANE_OPENMP_CONFIGURED=1"), std::string::npos);

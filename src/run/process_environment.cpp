@@ -1,6 +1,6 @@
-// The settings of the OpenMP runtime and of glibc's malloc that only the environment can give, applied by
-// re-executing fibrane once before anything runs (libgomp and glibc read them when they are loaded, before
-// main).
+// The settings of the OpenMP runtime, glibc's malloc and OpenBLAS that only the environment can give,
+// applied by re-executing the program once before anything runs (libgomp, glibc and OpenBLAS read them
+// when they are loaded, before main).
 //
 // Why: CHOLMOD's supernodal factorisation opens parallel regions with a fixed num_threads(4) clause for
 // every supernode, whatever omp_set_num_threads says. On a 2-core machine that is twice as many threads as
@@ -17,10 +17,11 @@
 #include <string>
 #include <thread>
 
-#include "commands.hpp"
+#include "run/process_environment.hpp"
+
 #include "linalg/linear_solver.hpp"
 
-namespace fibrane::app {
+namespace fibrane::run {
 namespace {
 
 // N of `--threads N` or `--threads=N` among the arguments, or 0.
@@ -34,7 +35,7 @@ int threads_argument(int argc, char** argv) {
 
 }  // namespace
 
-void configure_openmp_environment(int argc, char** argv) {
+void configure_process_environment(int argc, char** argv) {
   constexpr const char* kMarker = "FIBRANE_OPENMP_CONFIGURED";
   if (std::getenv(kMarker)) return;  // this is the re-executed process (or the user opted out)
   setenv(kMarker, "1", 1);
@@ -70,4 +71,4 @@ void configure_openmp_environment(int argc, char** argv) {
   if (changed) execv("/proc/self/exe", argv);  // on failure: go on with the settings as they are
 }
 
-}  // namespace fibrane::app
+}  // namespace fibrane::run
