@@ -5,7 +5,8 @@
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in domains
 // below METIS's separators where the matrix is large enough, as steps.split makes it: as many domains as threads),
-// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-whole (= cholmod),
+// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-split-alone (each domain
+// keeps its one BLAS thread to the end: CholmodSplitOptions::share_idle_cores off), cholmod-whole (= cholmod),
 // "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
@@ -40,6 +41,7 @@
 #include "linalg/linear_solver.hpp"
 #include "linalg/symmetry_probe.hpp"
 #include "run/checkpoint.hpp"
+#include "run/process_environment.hpp"
 
 namespace {
 
@@ -114,6 +116,7 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
     return fibrane::solve::make_mumps(options);
   }
   if (kind == "cholmod-split") return fibrane::solve::make_cholmod_split_llt();
+  if (kind == "cholmod-split-alone") return fibrane::solve::make_cholmod_split_llt({.share_idle_cores = false});
   if (kind.rfind("cholmod-split-", 0) == 0)  // cholmod-split-L: L levels of nested dissection
     return fibrane::solve::make_cholmod_split_llt({.levels = std::stoi(kind.substr(14))});
   if (kind == "cholmod-whole") return fibrane::solve::make_cholmod_llt();
@@ -164,6 +167,7 @@ std::string best_median(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage =
       "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
       "[--rounds R] [--state DIR]\n  analysis, factorisation and solve of the case's first tangent, or its tangent at the "

@@ -63,6 +63,44 @@ bool CholmodDomain::boundary_last() {
 }
 
 bool CholmodDomain::factorise(const Eigen::SparseMatrix<double>& a) {
+  indefinite = false;
+  negative = 0;
+  const bool llt_first = !ldlt_first_;
+  if (llt_first && factorise_llt(a)) return true;
+  const bool ok = factorise_ldlt(a);
+  ldlt_first_ = ok && negative > 0;
+  return ok || (!llt_first && factorise_llt(a));
+}
+
+bool CholmodDomain::factorise_ldlt(const Eigen::SparseMatrix<double>& a) {
+  if (!MumpsSchur::available()) return false;
+  cholmod_change_factor(CHOLMOD_PATTERN, factor->is_ll, factor->is_super, true, true, factor, &common);
+  c.resize(0, 0);
+  if (!ldlt) {  // MUMPS analyses the pattern with CHOLMOD's pivot order, the boundary last
+    std::vector<int> rows_of, columns_of;
+    for (int j = 0; j < size(); ++j)
+      for (int q = lower.column_start[static_cast<std::size_t>(j)]; q < lower.column_start[static_cast<std::size_t>(j) + 1]; ++q) {
+        rows_of.push_back(lower.row[static_cast<std::size_t>(q)]);
+        columns_of.push_back(j);
+      }
+    const auto* perm = static_cast<const int*>(factor->Perm);
+    std::vector<int> order(perm, perm + interior);  // MUMPS wants the Schur rows last in their own order
+    for (int r = interior; r < size(); ++r) order.push_back(r);
+    ldlt = std::make_unique<MumpsSchur>();
+    if (!ldlt->analyse(size(), boundary(), rows_of, columns_of, order)) {
+      ldlt.reset();
+      return false;
+    }
+  }
+  std::vector<double> values(lower.source.size());
+  for (std::size_t q = 0; q < values.size(); ++q) values[q] = a.valuePtr()[lower.source[q]];
+  if (!ldlt->factorise(values.data())) return false;
+  indefinite = true;
+  negative = ldlt->negative_pivots();
+  return true;
+}
+
+bool CholmodDomain::factorise_llt(const Eigen::SparseMatrix<double>& a) {
   if (!permuted.built()) {
     cholmod_sparse hv = cholmod_lower_view(size(), lower.column_start.data(), lower.row.data(), nullptr);
     if (!permuted.build(hv, *factor, common)) return false;
@@ -92,14 +130,43 @@ bool CholmodDomain::factorise(const Eigen::SparseMatrix<double>& a) {
 
 Eigen::MatrixXd CholmodDomain::update(const Eigen::SparseMatrix<double>& a) const {
   const int b = boundary();
-  Eigen::MatrixXd u = Eigen::MatrixXd::Zero(b, b);
+  Eigen::MatrixXd u = indefinite ? ldlt->schur() : Eigen::MatrixXd::Zero(b, b);
   for (int col = 0; col < b; ++col)  // -K_BB's lower triangle, from the domain's lower triangle
     for (auto q = static_cast<std::size_t>(lower.column_start[static_cast<std::size_t>(interior + col)]);
          q < static_cast<std::size_t>(lower.column_start[static_cast<std::size_t>(interior + col) + 1]); ++q)
-      u(lower.row[q] - interior, col) = -a.valuePtr()[lower.source[q]];
+      u(lower.row[q] - interior, col) -= a.valuePtr()[lower.source[q]];
   const double one = 1;
-  if (b > 0) dsyrk_("L", "N", &b, &b, &one, c.data(), &b, &one, u.data(), &b);
+  if (b > 0 && !indefinite) dsyrk_("L", "N", &b, &b, &one, c.data(), &b, &one, u.data(), &b);
   return u;
+}
+
+Eigen::MatrixXd CholmodDomain::forward(const Eigen::MatrixXd& local) {
+  if (!indefinite) return solve(CHOLMOD_L, solve(CHOLMOD_P, local));
+  Eigen::MatrixXd y(size() + boundary(), local.cols());
+  Eigen::MatrixXd state = local;
+  y.bottomRows(boundary()) = ldlt->reduce(state);
+  y.topRows(size()) = state;
+  return y;
+}
+
+Eigen::MatrixXd CholmodDomain::boundary_share(const Eigen::MatrixXd& y) const {
+  if (indefinite) return y.bottomRows(boundary());
+  return c * y.bottomRows(boundary());
+}
+
+Eigen::MatrixXd CholmodDomain::backward(Eigen::MatrixXd& y, const Eigen::MatrixXd& x_b) {
+  if (indefinite) {
+    Eigen::MatrixXd state = y.topRows(size());
+    ldlt->expand(state, x_b);
+    return state.topRows(interior);
+  }
+  y.bottomRows(boundary()).noalias() = c.transpose() * x_b;
+  return solve(CHOLMOD_Pt, solve(CHOLMOD_Lt, y)).topRows(interior);
+}
+
+long CholmodDomain::factor_entries() const {
+  if (indefinite) return ldlt->factor_entries();
+  return factor && factor->xtype != CHOLMOD_PATTERN ? static_cast<long>(factor->xsize) : 0;
 }
 
 Eigen::MatrixXd CholmodDomain::solve(int sys, const Eigen::MatrixXd& b) {
@@ -120,6 +187,8 @@ Eigen::MatrixXd CholmodDomain::solve(int sys, const Eigen::MatrixXd& b) {
 
 void CholmodDomain::release() {
   c.resize(0, 0);
+  ldlt.reset();
+  indefinite = false;
   if (!factor) return;
   cholmod_change_factor(CHOLMOD_PATTERN, factor->is_ll, factor->is_super, true, true, factor, &common);
   permuted.release_values();

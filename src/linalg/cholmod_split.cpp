@@ -5,6 +5,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -32,9 +33,14 @@ double makespan(std::vector<double> work, int threads) {
 
 // Runs body(k) for every k of `items`, side by side on up to `threads` threads with one BLAS thread each
 // where there are at least half as many items as threads, one after the other with the configured BLAS
-// threads where there are fewer (a few large dense fronts); false where a body returned false.
+// threads where there are fewer (a few large dense fronts); false where a body returned false. Each item
+// goes to the thread that is free first, in the order given. Once a single item is left unfinished, it
+// runs alone, and its further BLAS calls get the configured threads back: the cores of the threads that
+// have finished work on its last, largest supernodes (OpenBLAS's thread count is global, so it is raised
+// only when one body alone calls the BLAS).
+// `share` false: each keeps its one BLAS thread to the end.
 template <class Body>
-bool side_by_side(const std::vector<int>& items, int threads, Body&& body) {
+bool side_by_side(const std::vector<int>& items, int threads, Body&& body, bool share = true) {
   const int n = static_cast<int>(items.size());
   if (2 * n < threads || n == 1) {
     for (const int k : items)
@@ -42,9 +48,13 @@ bool side_by_side(const std::vector<int>& items, int threads, Body&& body) {
     return true;
   }
   int failed = 0;
-  const BlasThreadsForFactor one_blas_thread(0);
-#pragma omp parallel for num_threads(std::min(threads, n)) schedule(dynamic, 1) reduction(+ : failed)
-  for (int i = 0; i < n; ++i) failed += body(items[static_cast<std::size_t>(i)]) ? 0 : 1;
+  std::atomic<int> next{0}, unfinished{n};
+  BlasThreadsForFactor one_blas_thread(0);
+#pragma omp parallel num_threads(std::min(threads, n)) reduction(+ : failed)
+  for (int i = next++; i < n; i = next++) {
+    failed += body(items[static_cast<std::size_t>(i)]) ? 0 : 1;
+    if (--unfinished == 1 && share) one_blas_thread.restore();
+  }
   return failed == 0;
 }
 
@@ -79,10 +89,13 @@ class CholmodSplitSolver final : public LinearSolver {
       if (!domain.factorise(a)) return false;
       updates_[static_cast<std::size_t>(d)] = domain.update(a);
       return true;
-    });
+    }, options_.share_idle_cores);
     const auto t1 = std::chrono::steady_clock::now();
     factored_ = domains_ok && factorise_fronts(a);
-    if (!factored_) ++(domains_ok ? front_refusals_ : domain_refusals_);
+    if (!factored_) ++failures_;
+    for (const auto& d : domains_) domain_ldlt_ += d->indefinite;
+    if (factored_)
+      for (const auto& f : fronts_) front_ldlt_ += f.ldlt();
     updates_.clear();
     domain_seconds_ += std::chrono::duration<double>(t1 - t0).count();
     front_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
@@ -108,12 +121,9 @@ class CholmodSplitSolver final : public LinearSolver {
     }
     std::vector<int> all(domains_.size());
     std::iota(all.begin(), all.end(), 0);
-    side_by_side(all, threads_, [&](int d) {  // the domains backward, with C^T x_B in the boundary's place
+    side_by_side(all, threads_, [&](int d) {  // the domains backward
       CholmodDomain& domain = *domains_[static_cast<std::size_t>(d)];
-      Eigen::MatrixXd& yd = y[static_cast<std::size_t>(d)];
-      yd.bottomRows(domain.boundary()).noalias() =
-          domain.c.transpose() * x(domain_node(d).boundary, Eigen::all);
-      const Eigen::MatrixXd local = domain.solve(CHOLMOD_Pt, domain.solve(CHOLMOD_Lt, yd));
+      const Eigen::MatrixXd local = domain.backward(y[static_cast<std::size_t>(d)], x(domain_node(d).boundary, Eigen::all));
       for (int i = 0; i < domain.interior; ++i) x.row(domain.rows[static_cast<std::size_t>(i)]) = local.row(i);
       return true;
     });
@@ -146,16 +156,21 @@ class CholmodSplitSolver final : public LinearSolver {
     std::string summary = text;
     if (factorisations_ > 0) {  // the solver's whole life, over all patterns
       std::snprintf(text, sizeof text,
-                    "; %ld split factorisations: domains %.1f s, fronts %.1f s; not positive definite: %ld in a "
-                    "domain, %ld in a front",
-                    factorisations_, domain_seconds_, front_seconds_, domain_refusals_, front_refusals_);
+                    "; %ld split factorisations: domains %.1f s, fronts %.1f s; LDL^T where not positive definite: "
+                    "%ld in a domain, %ld in a front; failed: %ld",
+                    factorisations_, domain_seconds_, front_seconds_, domain_ldlt_, front_ldlt_, failures_);
       summary += text;
     }
     return summary;
   }
+  // Sylvester's law on the block elimination: the domains' K_DD and the fronts' F_SS after their updates.
   int negative_eigenvalues() const override {
     if (!split_) return whole_ ? whole_->negative_eigenvalues() : -1;
-    return factored_ ? 0 : -1;
+    if (!factored_) return -1;
+    int negative = 0;
+    for (const auto& d : domains_) negative += d->negative;
+    for (const auto& f : fronts_) negative += f.negative();
+    return negative;
   }
   std::string failure_detail() const override { return split_ ? refusal_ : whole_ ? whole_->failure_detail() : ""; }
   void release_factor() override {
@@ -170,8 +185,7 @@ class CholmodSplitSolver final : public LinearSolver {
   long held_factor_entries() const override {
     if (!split_) return whole_ ? whole_->held_factor_entries() : 0;
     long held = 0;
-    for (const auto& d : domains_)
-      if (d->factored()) held += static_cast<long>(d->factor->xsize);
+    for (const auto& d : domains_) held += d->factor_entries();
     for (const auto& f : fronts_)
       if (f.factored()) held += f.factor_entries();
     return held;
@@ -323,7 +337,7 @@ class CholmodSplitSolver final : public LinearSolver {
       CholmodDomain& domain = *domains_[static_cast<std::size_t>(d)];
       Eigen::MatrixXd local = Eigen::MatrixXd::Zero(domain.size(), b.cols());
       for (int i = 0; i < domain.interior; ++i) local.row(i) = b.row(domain.rows[static_cast<std::size_t>(i)]);
-      y[static_cast<std::size_t>(d)] = domain.solve(CHOLMOD_L, domain.solve(CHOLMOD_P, local));
+      y[static_cast<std::size_t>(d)] = domain.forward(local);
       return true;
     });
   }
@@ -340,8 +354,7 @@ class CholmodSplitSolver final : public LinearSolver {
         const int c = node.children[i], part = part_of_[static_cast<std::size_t>(c)];
         Eigen::MatrixXd up;
         if (tree_.nodes()[static_cast<std::size_t>(c)].domain()) {
-          const CholmodDomain& domain = *domains_[static_cast<std::size_t>(part)];
-          up.noalias() = domain.c * y[static_cast<std::size_t>(part)].bottomRows(domain.boundary());
+          up = domains_[static_cast<std::size_t>(part)]->boundary_share(y[static_cast<std::size_t>(part)]);
         } else {
           const DenseFront& child = fronts_[static_cast<std::size_t>(part)];
           up = r[static_cast<std::size_t>(part)].bottomRows(child.boundary());
@@ -383,7 +396,9 @@ class CholmodSplitSolver final : public LinearSolver {
   std::unique_ptr<LinearSolver> whole_;
   std::string refusal_;
   long factorisations_ = 0;  // split factorisations, and the wall time of their two phases
-  long domain_refusals_ = 0, front_refusals_ = 0;  // where the matrix was found not positive definite
+  // the domains' and fronts' LDL^T factorisations (where LL^T found the matrix not positive definite), and
+  // the split factorisations that failed
+  long domain_ldlt_ = 0, front_ldlt_ = 0, failures_ = 0;
   double domain_seconds_ = 0, front_seconds_ = 0;
 };
 

@@ -37,6 +37,9 @@ struct CholmodSplitOptions {
   long max_separator = 5'000;
   double max_work_share = 0.75;
   int levels = 0;
+  // The last domain still being factorised gets the BLAS threads of those that have finished (false: one
+  // to the end, for comparison in bench_linear_solver).
+  bool share_idle_cores = true;
 };
 std::unique_ptr<LinearSolver> make_cholmod_split_llt(const CholmodSplitOptions& options = {});
 

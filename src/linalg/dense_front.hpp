@@ -14,6 +14,11 @@ namespace fibrane::solve {
 /// U being this front's update of its own boundary. A forward solve takes r = [r_S; r_B] to
 /// [L_SS^-1 r_S; r_B - L_BS L_SS^-1 r_S] (the second part goes up to the parent), a backward solve takes
 /// y_S and the boundary's solution x_B to x_S = L_SS^-T (y_S - L_BS^T x_B).
+/// Where F_SS is not positive definite (an indefinite matrix, or a child's LDL^T update), LAPACK's
+/// Bunch-Kaufman LDL^T factorises it instead, F_SS = P L D L^T P^T (dsytrf), with
+///   U = F_BB - F_BS F_SS^-1 F_BS^T,  forward: [F_SS^-1 r_S; r_B - F_BS F_SS^-1 r_S],
+///   backward: x_S = y_S - F_SS^-1 F_BS^T x_B,
+/// and negative() counts D's negative eigenvalues (1 x 1 and 2 x 2 blocks), F_SS's by Sylvester's law.
 class DenseFront {
  public:
   /// The sizes of S and B, K's entries (index in K's value array, index in F's column-major storage of its
@@ -24,8 +29,11 @@ class DenseFront {
   void assemble(const double* values);
   /// F += the lower triangle of child k's update `u` at its map's places.
   void add(int child, Eigen::Ref<const Eigen::MatrixXd> u);
-  /// The partial factorisation; false where F_SS is not positive definite.
+  /// The partial factorisation, LL^T or else LDL^T; false where F_SS is singular.
   bool factorise();
+  /// Whether the last factorisation is the LDL^T, and F_SS's negative eigenvalues (0 for LL^T).
+  bool ldlt() const { return !pivots_.empty(); }
+  int negative() const { return negative_; }
   /// U (after factorise()), the lower triangle.
   Eigen::Ref<const Eigen::MatrixXd> update() const { return f_.bottomRightCorner(b_, b_); }
   /// Keeps only what solves need (L_SS and L_BS), once the parent has added U.
@@ -50,6 +58,11 @@ class DenseFront {
   std::vector<std::pair<int, long>> entries_;
   std::vector<std::vector<int>> child_maps_;
   Eigen::MatrixXd f_;
+  std::vector<int> pivots_;  // dsytrf's IPIV where the LDL^T factorised F_SS, empty for the LL^T
+  int negative_ = 0;
+  bool factorise_ldlt(const Eigen::MatrixXd& f_ss);
+  // x = F_SS^-1 x by dsytrs (rows S, m columns, leading dimension ld)
+  void ldlt_solve(double* x, int m, int ld) const;
 };
 
 }  // namespace fibrane::solve

@@ -124,7 +124,7 @@ int blas_thread_count();
 // know (Debian 12's 0.3.21 takes a virtual machine's "Intel(R) Xeon(R) Processor" with AVX-512 for a
 // Prescott, at a third of the dense speed: docs/performance.md, "Threads on a 16-core machine"); empty
 // where its choice is fitting or the BLAS is not OpenBLAS. OpenBLAS reads the variable when it is loaded:
-// `fibrane` sets it in its re-execution (app/openmp_environment.cpp) unless the user has set it.
+// `fibrane` sets it in its re-execution (run/process_environment.cpp) unless the user has set it.
 std::string blas_core_upgrade();
 // The rule behind it: for OpenBLAS's chosen core (openblas_get_corename) and whether the processor and the
 // system support AVX-512 (F, CD, DQ, BW and VL), and AVX2 with FMA: "SkylakeX", "Haswell" or empty.
@@ -139,6 +139,8 @@ class BlasThreadsForFactor {
   static constexpr long kSmallFactorEntries = 10'000'000;
   explicit BlasThreadsForFactor(long factor_nonzeros);
   ~BlasThreadsForFactor();
+  // Gives the BLAS its configured thread count back now (the destructor then has nothing to do).
+  void restore();
   BlasThreadsForFactor(const BlasThreadsForFactor&) = delete;
   BlasThreadsForFactor& operator=(const BlasThreadsForFactor&) = delete;
 

@@ -81,8 +81,11 @@ BlasThreadsForFactor::BlasThreadsForFactor(long factor_nonzeros) {
   set_blas_threads(1);
 }
 
-BlasThreadsForFactor::~BlasThreadsForFactor() {
+BlasThreadsForFactor::~BlasThreadsForFactor() { restore(); }
+
+void BlasThreadsForFactor::restore() {
   if (restore_ > 0) set_blas_threads(restore_);
+  restore_ = -1;
 }
 
 std::string blas_core_upgrade(const std::string& chosen, bool avx512, bool avx2_fma) {

@@ -2,6 +2,7 @@
 // Test matrices for the linear solvers: a 5-point Laplacian on an m x m grid plus `shift` * I and an upwind
 // convection part of strength `convection` (unsymmetric when > 0), with the diagonal scaled by random factors
 // 1 + noise * U(-1, 1) (seeded: a sequence of nearby matrices of one pattern).
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -27,6 +28,17 @@ inline Eigen::SparseMatrix<double> grid_matrix(int m, double shift, double conve
   Eigen::SparseMatrix<double> a(m * m, m * m);
   a.setFromTriplets(t.begin(), t.end());
   return a;
+}
+
+// The negative eigenvalues of grid_matrix(m, shift, 0): 4 - 2 cos(pi i / (m + 1)) - 2 cos(pi j / (m + 1)) + shift
+// for i, j = 1 ... m.
+inline int grid_negative_eigenvalues(int m, double shift) {
+  const double pi = std::acos(-1.0);
+  int negative = 0;
+  for (int i = 1; i <= m; ++i)
+    for (int j = 1; j <= m; ++j)
+      negative += 4 - 2 * std::cos(pi * i / (m + 1)) - 2 * std::cos(pi * j / (m + 1)) + shift < 0;
+  return negative;
 }
 
 }  // namespace fibrane::solve
