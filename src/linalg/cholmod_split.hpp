@@ -8,7 +8,7 @@
 
 namespace fibrane::solve {
 
-/// A symmetric positive definite K divided by nested dissection (SeparatorTree: METIS's node bisector,
+/// A symmetric K divided by nested dissection (SeparatorTree: METIS's node bisector,
 /// `levels` rounds) into domains that no entry joins, below a tree of separators. Each domain D with its
 /// boundary B (the separators' rows its elimination couples), H = K(D + B, D + B) with B last, is
 /// factorised by CHOLMOD's supernodal LL^T (CholmodDomain), the domains side by side on threads of their
@@ -21,6 +21,11 @@ namespace fibrane::solve {
 /// A solve runs forward through the domains (with the boundary's right-hand side 0, the domain passes
 /// C v up, v the boundary part of L^-1 P [b_D; 0]) and the fronts, then back through the fronts and the
 /// domains (with C^T x_B in the boundary's place).
+///
+/// An indefinite matrix stays split where the build has MUMPS: a domain whose H is not positive definite is
+/// factorised by MUMPS's LDL^T with B as its Schur complement (CholmodDomain, MumpsSchur), a front whose
+/// F_SS is not by LAPACK's Bunch-Kaufman LDL^T (DenseFront), and negative_eigenvalues() sums their counts
+/// (Sylvester's law on the block elimination). The summary counts the domains and fronts that took it.
 ///
 /// CHOLMOD's supernodal code factorises one supernode at a time, its parallelism only within the BLAS
 /// calls, where more cores add little; the domains side by side keep the cores busy (docs/performance.md,

@@ -34,7 +34,7 @@ class LinearSolver {
   virtual std::string analysis_summary() const { return {}; }
   // Number of negative eigenvalues of the last factorised matrix (Sylvester's law of inertia applied to
   // the factorisation), or -1 where the factorisation does not tell (LU) or the last one failed.
-  // "cholmod": 0; "ldlt": negative entries of D; "mumps": negative pivots (INFOG(12)); "umfpack": -1;
+  // "cholmod": 0 (split: the count of the LDL^T its indefinite domains and fronts took); "ldlt": negative entries of D; "mumps": negative pivots (INFOG(12)); "umfpack": -1;
   // "auto": that of the solver that made the last factorisation.
   virtual int negative_eigenvalues() const { return -1; }
   // Whether solve() gives the solution of the factorised matrix to round-off; false for approximate
@@ -108,7 +108,9 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
 // through its 64-bit integer interface) may be asked for directly.
 // Symmetric kinds read only the lower triangle, so they are refused (InputError) for symmetric == false;
 // "mumps" without MUMPS in the build is an InputError too.
-// split: CHOLMOD's LL^T of "auto" and "cholmod" in domains side by side (LinearSolverSettings::split).
+// split: CHOLMOD's LL^T of "auto" and "cholmod" in domains side by side (LinearSolverSettings::split); there
+// an indefinite matrix stays in the split, its indefinite domains and fronts factorised by LDL^T
+// (cholmod_split.hpp), where the build has MUMPS.
 std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split = false);
 
 // Bounds every thread pool the solvers and the assembly use to n threads (n <= 0: no change): OpenMP's
