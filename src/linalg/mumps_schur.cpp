@@ -120,33 +120,30 @@ long MumpsSchur::factor_entries() const {
   return value >= 0 ? value : -1000000L * value;
 }
 
-Eigen::MatrixXd MumpsSchur::reduce(Eigen::MatrixXd& rhs) const {
+// One half of a solve (JOB = 3 with ICNTL(26) = phase) on rhs and the reduced right-hand side; false where
+// MUMPS fails.
+bool MumpsSchur::solve_phase(int phase, Eigen::MatrixXd& rhs, Eigen::MatrixXd& reduced) const {
   Instance& m = *id_;
-  Eigen::MatrixXd reduced(boundary_, rhs.cols());
   m.id.rhs = rhs.data();
   m.id.nrhs = static_cast<int>(rhs.cols());
   m.id.lrhs = static_cast<int>(rhs.rows());
   m.id.redrhs = reduced.data();
   m.id.lredrhs = boundary_;
-  m.icntl(26) = 1;
+  m.icntl(26) = phase;
   m.call(3);
   m.icntl(26) = 0;
-  if (m.infog(1) < 0) reduced.setConstant(std::numeric_limits<double>::quiet_NaN());
+  return m.infog(1) >= 0;
+}
+
+Eigen::MatrixXd MumpsSchur::reduce(Eigen::MatrixXd& rhs) const {
+  Eigen::MatrixXd reduced(boundary_, rhs.cols());
+  if (!solve_phase(1, rhs, reduced)) reduced.setConstant(std::numeric_limits<double>::quiet_NaN());
   return reduced;
 }
 
 void MumpsSchur::expand(Eigen::MatrixXd& rhs, const Eigen::MatrixXd& x_b) const {
-  Instance& m = *id_;
   Eigen::MatrixXd reduced = x_b;
-  m.id.rhs = rhs.data();
-  m.id.nrhs = static_cast<int>(rhs.cols());
-  m.id.lrhs = static_cast<int>(rhs.rows());
-  m.id.redrhs = reduced.data();
-  m.id.lredrhs = boundary_;
-  m.icntl(26) = 2;
-  m.call(3);
-  m.icntl(26) = 0;
-  if (m.infog(1) < 0) rhs.setConstant(std::numeric_limits<double>::quiet_NaN());
+  if (!solve_phase(2, rhs, reduced)) rhs.setConstant(std::numeric_limits<double>::quiet_NaN());
 }
 
 #else

@@ -46,6 +46,7 @@ class MumpsSchur {
 
  private:
   struct Instance;
+  bool solve_phase(int phase, Eigen::MatrixXd& rhs, Eigen::MatrixXd& reduced) const;
   std::unique_ptr<Instance> id_;
   Eigen::MatrixXd schur_;
   int boundary_ = 0;
