@@ -66,10 +66,14 @@ bool CholmodDomain::factorise(const Eigen::SparseMatrix<double>& a) {
   indefinite = false;
   negative = 0;
   const bool llt_first = !ldlt_first_;
-  if (llt_first && factorise_llt(a)) return true;
+  // After an LL^T, MUMPS's factor (and its analysis) is freed: the next LDL^T analyses anew.
+  if (llt_first && factorise_llt(a)) return ldlt.reset(), true;
   const bool ok = factorise_ldlt(a);
   ldlt_first_ = ok && negative > 0;
-  return ok || (!llt_first && factorise_llt(a));
+  if (ok) return true;
+  if (llt_first || !factorise_llt(a)) return false;
+  ldlt.reset();
+  return true;
 }
 
 bool CholmodDomain::factorise_ldlt(const Eigen::SparseMatrix<double>& a) {
@@ -165,8 +169,8 @@ Eigen::MatrixXd CholmodDomain::backward(Eigen::MatrixXd& y, const Eigen::MatrixX
 }
 
 long CholmodDomain::factor_entries() const {
-  if (indefinite) return ldlt->factor_entries();
-  return factor && factor->xtype != CHOLMOD_PATTERN ? static_cast<long>(factor->xsize) : 0;
+  const long llt = factor && factor->xtype != CHOLMOD_PATTERN ? static_cast<long>(factor->xsize) : 0;
+  return llt + (ldlt ? ldlt->factor_entries() : 0);
 }
 
 Eigen::MatrixXd CholmodDomain::solve(int sys, const Eigen::MatrixXd& b) {

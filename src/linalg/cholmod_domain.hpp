@@ -67,7 +67,7 @@ struct CholmodDomain {
   void release();
   /// Whether a numeric factor is held.
   bool factored() const { return indefinite || (factor && factor->xtype != CHOLMOD_PATTERN); }
-  /// Entries of the numeric factor held (CHOLMOD's or MUMPS's).
+  /// Entries of the numeric factors held (CHOLMOD's and MUMPS's; one of them after a factorisation).
   long factor_entries() const;
 
  private:

@@ -150,10 +150,14 @@ TEST_P(SplitLevels, AnIndefiniteMatrixIsFactorisedByLdlt) {
   EXPECT_LT((a * x - b).norm(), 1e-10 * b.norm());
   EXPECT_LT(relative(x, whole->solve_columns(b)), 1e-8);
   EXPECT_LT(relative(solver->solve(b.col(1)), x.col(1)), 1e-8);  // MUMPS blocks several columns otherwise
-  // positive definite again: LL^T everywhere, the same pattern
+  // positive definite again, the same pattern: the indefinite domains try the LDL^T first once, find their
+  // K_DD positive definite, and the next factorisation is LL^T everywhere, with MUMPS's factors freed
   const SpMat positive = grid_matrix(100, 0.1, 0.0);
   ASSERT_TRUE(solver->factorize(positive));
   EXPECT_EQ(solver->negative_eigenvalues(), 0);
+  ASSERT_TRUE(solver->factorize(positive));
+  EXPECT_EQ(solver->negative_eigenvalues(), 0);
+  EXPECT_EQ(solver->held_factor_entries(), solver->factor_nonzeros());
   EXPECT_LT(relative(solver->solve_columns(b), whole_solve(positive, b)), 1e-13);
 }
 
