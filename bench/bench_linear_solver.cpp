@@ -216,7 +216,15 @@ int main(int argc, char** argv) {
     const double part = measure([&] { probe.symmetric_part(k, s); }).wall;
     const double again = measure([&] { probe.symmetric_part(k, s); }).wall;
     fmt::print("symmetry probe: map {:.3f} s, symmetric {:.3f} s ({}), skew support {:.3f} s ({} rows), symmetric part "
-               "{:.3f} s (into its pattern {:.3f} s)\n", build, check, symmetric, classify, support.size(), part, again);
+               "{:.3f} s (into its pattern {:.3f} s)\n", build, check, symmetric, classify, support.size(), part, again);    if (const auto candidates = m.skew_candidates()) {  // what fibrane's analyses give the probe
+      fibrane::solve::SymmetryProbe rows;
+      const double rows_build = measure([&] { rows.build(k, *candidates); }).wall;
+      const double rows_classify = measure([&] { support = rows.skew_support(k); }).wall;
+      const double rows_part = measure([&] { rows.symmetric_part(k, s); }).wall;
+      fmt::print("symmetry probe of the model's {} skew candidate rows: map {:.6f} s, skew support {:.6f} s ({} rows), "
+                 "symmetric part into its pattern {:.3f} s\n", candidates->size(), rows_build, rows_classify,
+                 support.size(), rows_part);
+    }
   }
   std::vector<Row> rows(kinds.size());
   for (int round = 0; round < rounds; ++round)

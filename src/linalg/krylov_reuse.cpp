@@ -14,6 +14,7 @@ KrylovReuseSolver::KrylovReuseSolver(std::unique_ptr<LinearSolver> direct, const
 
 bool KrylovReuseSolver::fall_back_to_exact() const {
   direct_ = exact_fallback_();
+  direct_->set_skew_candidates(candidates_);
   ++stats_.exact_fallbacks;
   pending_analysis_ = true;
   const bool ok = refactorize();

@@ -66,6 +66,10 @@ class KrylovReuseSolver final : public LinearSolver {
   int negative_eigenvalues() const override { return fresh_ ? direct_->negative_eigenvalues() : -1; }
   std::string failure_detail() const override { return direct_->failure_detail(); }
   void begin_step() override { direct_->begin_step(); }
+  void set_skew_candidates(std::optional<std::vector<int>> rows) override {
+    candidates_ = rows;
+    direct_->set_skew_candidates(std::move(rows));
+  }
   const KrylovReuseStatistics& statistics() const { return stats_; }
 
  private:
@@ -77,6 +81,7 @@ class KrylovReuseSolver final : public LinearSolver {
   Factory exact_fallback_;
   KrylovReuseOptions options_;
   bool symmetric_;
+  std::optional<std::vector<int>> candidates_;  // set_skew_candidates()'s, for the exact fallback
   const Eigen::SparseMatrix<double>* matrix_ = nullptr;
   mutable bool pending_analysis_ = true, factor_valid_ = false, fresh_ = false, stale_ = false;
   mutable Eigen::Index factored_size_ = -1;

@@ -136,11 +136,11 @@ class AutoSolver final : public LinearSolver {
 // For a model that cannot promise symmetry (point moments: Eq. (54)'s load stiffness is unsymmetric in
 // general) but whose tangent may still be symmetric in the case at hand (a moment about a fixed axis on a
 // beam kept in a plane: M . delta omega is then the variation of M theta). The values are compared with
-// their mirror entries before every factorisation (one pass over the values through a map built at
-// analyze(), ~1% of a factorisation), and the symmetric chain (AutoSolver, or a MUMPS LDL^T for
-// approximate or out-of-core factorisations) is used while the matrix is symmetric to round-off. An
-// unsymmetric matrix whose skew part lives on at most kMaxSkewRows rows (the end control points of beams
-// under point moments) is solved through the same chain's factorisation of its symmetric part and an
+// their mirror entries before every factorisation, through a map built at analyze() (of the rows that
+// set_skew_candidates() names, else of the whole matrix), and the symmetric chain (AutoSolver, or a MUMPS
+// LDL^T for approximate or out-of-core factorisations) is used while the matrix is symmetric to round-off.
+// An unsymmetric matrix whose skew part lives on at most kMaxSkewRows rows (the end control points of
+// beams under point moments) is solved through the same chain's factorisation of its symmetric part and an
 // exact low-rank correction (SkewCorrection); any other, or one where that fails, takes the LU.
 class SymmetryProbingSolver final : public LinearSolver {
  public:
@@ -149,7 +149,8 @@ class SymmetryProbingSolver final : public LinearSolver {
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
     release_storage(s_);  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
-    probe_.build(a);
+    if (candidates_) probe_.build(a, *candidates_);
+    else probe_.build(a);
     pick(a, choose(a), true);
   }
   bool factorize(const SpMat& a) override {
@@ -199,6 +200,7 @@ class SymmetryProbingSolver final : public LinearSolver {
   // Passed on to the symmetric chain with the step's first matrix, once its path is known (the chain is
   // made at the first analysis, after Newton's first begin_step()).
   void begin_step() override { step_starts_ = true; }
+  void set_skew_candidates(std::optional<std::vector<int>> rows) override { candidates_ = std::move(rows); }
 
  private:
   enum class Path { symmetric, skew, lu };
@@ -234,6 +236,7 @@ class SymmetryProbingSolver final : public LinearSolver {
 
   Factory make_symmetric_, make_lu_;
   SymmetryProbe probe_;
+  std::optional<std::vector<int>> candidates_;  // the rows the probe compares (nullopt: all)
   Path path_ = Path::lu;
   std::vector<int> support_;
   SpMat s_;  // the symmetric part on the skew path (kept: the next matrix's is written into its pattern)
@@ -245,9 +248,12 @@ class SymmetryProbingSolver final : public LinearSolver {
 
 }  // namespace
 
+bool LinearSolver::needs_analysis(const SpMat& a, int pattern_version) const {
+  return pattern_version != analyzed_version_ || a.rows() != analyzed_rows_ || a.nonZeros() != analyzed_nonzeros_;
+}
+
 bool LinearSolver::analyze_if_needed(const SpMat& a, int pattern_version) {
-  if (pattern_version == analyzed_version_ && a.rows() == analyzed_rows_ && a.nonZeros() == analyzed_nonzeros_)
-    return false;
+  if (!needs_analysis(a, pattern_version)) return false;
   analyze(a);
   analyzed_version_ = pattern_version;
   analyzed_rows_ = a.rows();

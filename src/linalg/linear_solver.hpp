@@ -4,7 +4,9 @@
 // elimination tree) is split from the numeric factorisation so Newton iterations on an unchanged
 // sparsity pattern only refactorise.
 #include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
@@ -55,7 +57,14 @@ class LinearSolver {
   // after release_factor(); solvers without release_factor() give factor_nonzeros(); "auto": the sum
   // over both of its solvers.
   virtual long held_factor_entries() const { return factor_nonzeros(); }
+  // The rows the next analyses' matrices can be unsymmetric in (sorted; NonlinearSystem::skew_candidates):
+  // the matrices are symmetric in pattern and values outside them. nullopt: any row. Solvers that compare
+  // a matrix with its transpose (the symmetry probe of "auto" for a model that cannot promise symmetry)
+  // compare only those rows; the others ignore it.
+  virtual void set_skew_candidates(std::optional<std::vector<int>> /*rows*/) {}
 
+  // Whether analyze_if_needed() would analyse.
+  bool needs_analysis(const Eigen::SparseMatrix<double>& a, int pattern_version) const;
   // Calls analyze() unless the last analysis was for the same pattern version and matrix shape.
   // Used by newton_solve(); returns true if it analysed.
   bool analyze_if_needed(const Eigen::SparseMatrix<double>& a, int pattern_version);

@@ -7,13 +7,23 @@
 
 namespace fibrane::solve {
 
+namespace {
+
+bool square_and_compressed(const Eigen::SparseMatrix<double>& a) { return a.rows() == a.cols() && a.isCompressed(); }
+
+}  // namespace
+
 // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
 // without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
   release_storage(mirror_);  // the last pattern's map goes before the new one is built
+  release_storage(entries_);
+  rows_.clear();
   structurally_symmetric_ = false;
-  if (a.rows() != a.cols() || !a.isCompressed()) return;
+  whole_ = true;
+  nonzeros_ = 0;
+  if (!square_and_compressed(a)) return;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   std::vector<int> next(outer, outer + a.cols());
@@ -26,6 +36,36 @@ void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
       mirror[static_cast<size_t>(k)] = m;
     }
   mirror_ = std::move(mirror);
+  nonzeros_ = a.nonZeros();
+  structurally_symmetric_ = true;
+}
+
+// Each entry of the rows' columns whose row is one of them finds its mirror by a binary search in the
+// mirror's column.
+void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows) {
+  if (4 * static_cast<Eigen::Index>(rows.size()) > a.rows()) return build(a);
+  release_storage(mirror_);
+  release_storage(entries_);
+  rows_ = rows;
+  structurally_symmetric_ = false;
+  whole_ = false;
+  nonzeros_ = 0;
+  if (!square_and_compressed(a)) return;
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  const auto in_rows = [&](int i) { return std::binary_search(rows_.begin(), rows_.end(), i); };
+  for (const int col : rows_) {
+    if (col < 0 || col >= a.cols()) return;
+    for (int k = outer[col]; k < outer[col + 1]; ++k) {
+      const int row = inner[k];
+      if (!in_rows(row)) continue;
+      const int* found = std::lower_bound(inner + outer[row], inner + outer[row + 1], col);
+      if (found == inner + outer[row + 1] || *found != col) return;
+      entries_.push_back(k);
+      mirror_.push_back(static_cast<int>(found - inner));
+    }
+  }
+  nonzeros_ = a.nonZeros();
   structurally_symmetric_ = true;
 }
 
@@ -36,11 +76,15 @@ bool SymmetryProbe::symmetric(const Eigen::SparseMatrix<double>& a) const {
   return structurally_symmetric_ && a.nonZeros() == size() && skew_support(a).empty();
 }
 
+std::vector<int> SymmetryProbe::skew_support(const Eigen::SparseMatrix<double>& a) const {
+  if (!structurally_symmetric_ || a.nonZeros() != size()) return {};
+  return whole_ ? whole_skew_support(a) : block_skew_support(a);
+}
+
 // One pass over the values, columns shared among the threads: each column's largest |a_ij - a_ji| and the
 // largest |a_ij|, then the columns above the tolerance. A differing entry's mirror differs as much, so the
 // columns that hold one are the rows that do, and no two threads write the same place.
-std::vector<int> SymmetryProbe::skew_support(const Eigen::SparseMatrix<double>& a) const {
-  if (!structurally_symmetric_ || a.nonZeros() != size()) return {};
+std::vector<int> SymmetryProbe::whole_skew_support(const Eigen::SparseMatrix<double>& a) const {
   const double* v = a.valuePtr();
   const int* outer = a.outerIndexPtr();
   const Eigen::Index n = a.cols();
@@ -62,12 +106,38 @@ std::vector<int> SymmetryProbe::skew_support(const Eigen::SparseMatrix<double>& 
   return rows;
 }
 
+// The same over the block's entries, with max|a| over the rows' columns.
+std::vector<int> SymmetryProbe::block_skew_support(const Eigen::SparseMatrix<double>& a) const {
+  const double* v = a.valuePtr();
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  double largest = 0;
+  for (const int col : rows_)
+    for (int k = outer[col]; k < outer[col + 1]; ++k) largest = std::max(largest, std::abs(v[k]));
+  const double tolerance = 1e-12 * largest;
+  std::vector<int> rows;
+  for (std::size_t t = 0; t < entries_.size(); ++t) {
+    const int k = entries_[t];
+    if (std::abs(v[k] - v[mirror_[t]]) > tolerance) rows.push_back(inner[k]);
+  }
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  return rows;
+}
+
 void SymmetryProbe::symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const {
-  if (s.rows() != a.rows() || s.nonZeros() != a.nonZeros()) s = a;
+  const bool values_only = s.rows() == a.rows() && s.nonZeros() == a.nonZeros();
+  if (!values_only) s = a;
   if (!structurally_symmetric_ || a.nonZeros() != size()) return;
   const double* v = a.valuePtr();
   double* w = s.valuePtr();
   const Eigen::Index nnz = a.nonZeros();
+  if (!whole_) {
+    if (values_only) std::copy(v, v + nnz, w);
+    for (std::size_t t = 0; t < entries_.size(); ++t)
+      w[entries_[t]] = 0.5 * (v[entries_[t]] + v[mirror_[t]]);
+    return;
+  }
 #pragma omp parallel for schedule(static) if (nnz > 200000)
   for (Eigen::Index k = 0; k < nnz; ++k) w[k] = 0.5 * (v[k] + v[mirror_[static_cast<size_t>(k)]]);
 }

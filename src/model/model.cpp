@@ -224,6 +224,20 @@ int Model::skew_rows() const {
 
 bool Model::symmetric() const { return skew_rows() == 0; }
 
+std::optional<std::vector<int>> Model::skew_candidates() const {
+  if (!finalized_) return std::nullopt;
+  std::vector<std::vector<int>> element_dofs;
+  for (const auto& e : entries_)
+    if (!e.contribution->symmetric())
+      for (auto& d : e.contribution->element_dofs(dofs)) element_dofs.push_back(std::move(d));
+  std::vector<int> rows;
+  for (const auto& unknowns : solve::element_unknowns(constraints, element_dofs))
+    rows.insert(rows.end(), unknowns.begin(), unknowns.end());
+  std::sort(rows.begin(), rows.end());
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  return rows;
+}
+
 void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");
   using clock = std::chrono::steady_clock;

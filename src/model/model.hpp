@@ -111,6 +111,9 @@ class Model : public solve::TransientSystem {
   bool symmetric() const override;
   // The rows its tangent's skew part can touch: the contributions' together (-1: any number).
   int skew_rows() const;
+  // Which rows those are at the current pattern: the free unknowns of the elements of the contributions
+  // that may be unsymmetric (an element's tangent lies on its own DOFs), through the constraints.
+  std::optional<std::vector<int>> skew_candidates() const override;
 
   // TransientSystem (needs `inertia`): the time step the next evaluations belong to, the prescribed
   // motion g(t) and its derivatives, the mass matrix.

@@ -79,6 +79,7 @@ class PetscSolver final : public solve::LinearSolver {
   long factor_nonzeros() const override;
   std::string analysis_summary() const override;
   int negative_eigenvalues() const override { return negative_; }
+  void set_skew_candidates(std::optional<std::vector<int>> rows) override { candidates_ = std::move(rows); }
 
  private:
   void set_matrix(const SpMat& a);     // analyze() for a new size or symmetry, then set_values()
@@ -101,6 +102,7 @@ class PetscSolver final : public solve::LinearSolver {
   Vec b_ = nullptr, x_ = nullptr, x_all_ = nullptr;
   VecScatter to_all_ = nullptr;
   solve::SymmetryProbe probe_;
+  std::optional<std::vector<int>> candidates_;  // set_skew_candidates()'s: the rows the probe compares
   bool cholesky_ = true;      // SBAIJ + LDL^T; otherwise AIJ + LU
   bool factored_ = false;     // the KSP holds a factorisation (possibly of an earlier tangent)
   bool fresh_ = false;        // ... of the matrix's current values
@@ -129,7 +131,8 @@ void PetscSolver::analyze(const SpMat& a) {
   malloc_trim(0);
   cholesky_ = symmetric_model_ && !options_.lu;
   if (!symmetric_model_ && !options_.lu) {
-    probe_.build(a);
+    if (candidates_) probe_.build(a, *candidates_);
+    else probe_.build(a);
     cholesky_ = d_.all(probe_.symmetric(a));
   }
   SpMat storage;

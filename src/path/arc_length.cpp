@@ -39,7 +39,7 @@ bool ArcLength::corrector_update(NonlinearSystem& sys, LinearSolver& solver, con
   }
   const double c2 = c_ * c_;
   const double g = 0.5 * (dq.squaredNorm() + c2 * dt * dt - ds * ds);  // constraint residual
-  solver.analyze_if_needed(k, sys.pattern_version());
+  analyze_if_needed(solver, sys, k);
   if (solver.factorize(k)) {
     const Eigen::VectorXd a = solver.solve(-r), b = solver.solve(-r_t);
     if (a.allFinite() && b.allFinite()) {

@@ -105,7 +105,7 @@ bool ArcLength::tangent_at_state(NonlinearSystem& sys, LinearSolver& solver, Tan
   if (r_t.size() != k.rows())
     throw std::invalid_argument("arc-length continuation needs the system's load derivative (d residual / d t)");
   if (!sys.tangent_finite() || !r_t.allFinite()) return false;
-  solver.analyze_if_needed(k, sys.pattern_version());
+  analyze_if_needed(solver, sys, k);
   // The sign rule compares the inertia of consecutive path tangents: this matrix's own factorisation.
   if (solver.factorize_exactly(k)) {
     tangent.dq = solver.solve(-r_t);

@@ -72,6 +72,7 @@ class StepSystem final : public NonlinearSystem {
   const Eigen::VectorXd& load_derivative() const override { return sys_.load_derivative(); }
   int pattern_version() const override { return sys_.pattern_version(); }
   bool symmetric() const override { return sys_.symmetric(); }
+  std::optional<std::vector<int>> skew_candidates() const override { return sys_.skew_candidates(); }
   double residual_scale() const override { return sys_.residual_scale(); }
   std::string failure_hint() const override { return sys_.failure_hint(); }
 

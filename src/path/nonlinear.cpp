@@ -149,7 +149,7 @@ NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, 
         rep.failure = "non-finite tangent at iteration " + std::to_string(it);
         return rep;
       }
-      solver.analyze_if_needed(k, sys.pattern_version());
+      analyze_if_needed(solver, sys, k);
       factor_valid = false;
       if (!solver.factorize(k)) {
         const std::string detail = solver.failure_detail();
@@ -192,6 +192,12 @@ NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, 
 }
 
 }  // namespace
+
+bool analyze_if_needed(LinearSolver& solver, const NonlinearSystem& sys, const Eigen::SparseMatrix<double>& k) {
+  if (!solver.needs_analysis(k, sys.pattern_version())) return false;
+  solver.set_skew_candidates(sys.skew_candidates());
+  return solver.analyze_if_needed(k, sys.pattern_version());
+}
 
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
                           LinearSolver& solver) {

@@ -1,6 +1,7 @@
 #pragma once
 // Newton-Raphson for the reduced equilibrium equations r(q, t) = 0 (paper Sec. 2.3: the discretised
 // Eq. (7) is solved by Newton's method inside each continuation increment).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ class NonlinearSystem {
   // one with a non-finite residual (backtracking, then failure with this reason).
   virtual std::string invalid_state() const { return {}; }
   virtual bool symmetric() const { return true; }
+  // The rows (sorted) the tangent's skew part (K - K^T) / 2 can touch at the current pattern: the
+  // tangent is symmetric in pattern and values outside them. nullopt where the system does not know.
+  virtual std::optional<std::vector<int>> skew_candidates() const { return std::nullopt; }
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
   virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
@@ -125,6 +129,10 @@ class GiveUpRules {
   double best_;     // the reference |r|: the first, then each that halves it or exceeds it tenfold
   int best_at_ = 0; // its iteration
 };
+
+// solver.analyze_if_needed(k, sys.pattern_version()), telling the solver the system's skew candidates
+// first where it analyses.
+bool analyze_if_needed(LinearSolver& solver, const NonlinearSystem& sys, const Eigen::SparseMatrix<double>& k);
 
 // Converged when ||r|| <= max(tol_relative * scale, tol_absolute), scale = max(||r_0||, residual_scale()),
 // or when ||r|| <= kRoundoffFloorFactor * roundoff_floor() of the last tangent (the tolerance is below what

@@ -46,6 +46,41 @@ TEST(SkewCorrection, ProbeFindsTheSkewRowsAndTheSymmetricPart) {
   EXPECT_LT((s - expected).norm(), 1e-14 * a.norm());
 }
 
+// The probe of some rows compares only the entries whose row and column are both among them: where they
+// hold the skew part it agrees with the whole probe; a skew part outside them is not seen (the caller's
+// promise that there is none); a missing mirror inside them makes the pattern unsymmetric.
+TEST(SkewCorrection, ProbeOfSomeRowsComparesOnlyThem) {
+  const SpMat a = with_skew_rows(20, {5, 47, 203}, 1);
+  SymmetryProbe whole, rows;
+  whole.build(a);
+  rows.build(a, {4, 5, 6, 46, 47, 48, 49, 203, 204, 399});
+  EXPECT_TRUE(rows.structurally_symmetric());
+  EXPECT_EQ(rows.size(), a.nonZeros());
+  EXPECT_FALSE(rows.symmetric(a));
+  EXPECT_EQ(rows.skew_support(a), whole.skew_support(a));
+  SpMat s_whole, s_rows;
+  whole.symmetric_part(a, s_whole);
+  rows.symmetric_part(a, s_rows);
+  EXPECT_EQ((s_whole - s_rows).norm(), 0.0);
+  rows.symmetric_part(a, s_rows);  // again, into the existing pattern
+  EXPECT_EQ((s_whole - s_rows).norm(), 0.0);
+  EXPECT_TRUE(rows.symmetric(s_rows));
+
+  SymmetryProbe some;
+  some.build(a, {5, 6, 47, 48});
+  EXPECT_EQ(some.skew_support(a), (std::vector<int>{5, 6, 47, 48}));
+
+  SpMat b = a;
+  b.coeffRef(399, 4) = 1.0;  // no (4, 399)
+  b.makeCompressed();
+  SymmetryProbe block;
+  block.build(b, {4, 5, 6, 399});
+  EXPECT_FALSE(block.structurally_symmetric());
+  EXPECT_FALSE(block.symmetric(b));
+  block.build(b, {5, 6});
+  EXPECT_TRUE(block.structurally_symmetric());
+}
+
 TEST(SkewCorrection, ProbeSharesTheColumnsAmongThreads) {
   // A 300 x 300 grid (90 000 unknowns, ~450 000 entries: above the probe's serial limit) with skew rows at
   // both ends of the column range, where two threads' shares begin and end; the support must be the same
