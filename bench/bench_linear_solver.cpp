@@ -5,8 +5,8 @@
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in domains
 // below METIS's separators where the matrix is large enough, as steps.split makes it: as many domains as threads),
-// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-split-alone (each domain
-// keeps its one BLAS thread to the end: CholmodSplitOptions::share_idle_cores off), cholmod-whole (= cholmod),
+// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-split-shared (the last
+// domain gets the finished ones' BLAS threads: CholmodSplitOptions::share_idle_cores), cholmod-whole (= cholmod),
 // "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
 // mumps-pord, mumps-qamd, mumps-blr (tolerance 1e-10), mumps-cholmod (CHOLMOD's pivot order, as "auto"
@@ -18,8 +18,9 @@
 // Printed per solver: the first symbolic analysis, a second one (CHOLMOD: only the ordering method that
 // won the first), the numeric factorisation (wall, and the process's user and system CPU time), a second
 // one of the same matrix (wall: what each later Newton iteration of the pattern costs), a solve,
-// the factor's non-zeros, the negative eigenvalues reported, the solve's backward error |K x - b| / (|K| |x| + |b|) (infinity norms), and the
-// peak resident memory the solver added to the process (VmHWM, reset before each solver, less the resident
+// the factor's non-zeros, the negative eigenvalues reported, the solve's backward error |K x - b| / (|K| |x| + |b|) (infinity norms),
+// with several rounds the largest relative change of the solution from the first round's (0: repeatable to
+// the last bit), and the peak resident memory the solver added to the process (VmHWM, reset before each solver, less the resident
 // size then; the largest over the rounds).
 #include <omp.h>
 #include <sys/resource.h>
@@ -116,7 +117,7 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
     return fibrane::solve::make_mumps(options);
   }
   if (kind == "cholmod-split") return fibrane::solve::make_cholmod_split_llt();
-  if (kind == "cholmod-split-alone") return fibrane::solve::make_cholmod_split_llt({.share_idle_cores = false});
+  if (kind == "cholmod-split-shared") return fibrane::solve::make_cholmod_split_llt({.share_idle_cores = true});
   if (kind.rfind("cholmod-split-", 0) == 0)  // cholmod-split-L: L levels of nested dissection
     return fibrane::solve::make_cholmod_split_llt({.levels = std::stoi(kind.substr(14))});
   if (kind == "cholmod-whole") return fibrane::solve::make_cholmod_llt();
@@ -132,6 +133,8 @@ struct Row {
   int negative = -1;
   double residual = 0;
   bool ok = true;
+  Eigen::VectorXd first_solution;  // the first round's
+  double change = 0;               // the later rounds' largest |x - x_first|_inf / |x_first|_inf
 };
 
 // One round for one solver: analyse twice, factorise, solve, appended to `row`.
@@ -155,6 +158,10 @@ void run(Row& row, LinearSolver& solver, const Eigen::SparseMatrix<double>& k, c
   const Eigen::VectorXd r = k * x - b;
   const double k_norm = (k.cwiseAbs() * Eigen::VectorXd::Ones(k.cols())).maxCoeff();
   row.residual = ok ? r.lpNorm<Eigen::Infinity>() / (k_norm * x.lpNorm<Eigen::Infinity>() + b.lpNorm<Eigen::Infinity>()) : 0.0;
+  if (row.first_solution.size() == 0) row.first_solution = x;
+  else if (ok)
+    row.change = std::max(row.change, (x - row.first_solution).lpNorm<Eigen::Infinity>() /
+                                          row.first_solution.lpNorm<Eigen::Infinity>());
 }
 
 // "best / median" of the rounds.
@@ -237,13 +244,14 @@ int main(int argc, char** argv) {
     }
   fmt::print("times in s{}\n", rounds > 1 ? fmt::format(", best / median of {} rounds", rounds) : "");
   fmt::print("| solver | first analysis | second analysis | factorisation wall | user | system | refactorisation | "
-             "solve | factor non-zeros | negative eigenvalues | backward error | peak memory [MiB] | analyses |\n");
-  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+             "solve | factor non-zeros | negative eigenvalues | backward error | change from round 1 | peak memory [MiB] | "
+             "analyses |\n");
+  fmt::print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows)
-    fmt::print("| {}{} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} | {:.0f} | {} |\n", r.name,
+    fmt::print("| {}{} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {:.1e} | {} | {:.0f} | {} |\n", r.name,
                r.ok ? "" : " (failed)", best_median(r.first), best_median(r.second), best_median(r.factor_wall),
                best_median(r.factor_user), best_median(r.factor_system), best_median(r.refactor), best_median(r.solve),
                r.factor_nonzeros,
-               r.negative, r.residual, *std::max_element(r.memory.begin(), r.memory.end()), r.summary);
+               r.negative, r.residual, rounds > 1 ? fmt::format("{:.1e}", r.change) : "-", *std::max_element(r.memory.begin(), r.memory.end()), r.summary);
   return 0;
 }

@@ -42,9 +42,12 @@ struct CholmodSplitOptions {
   long max_separator = 5'000;
   double max_work_share = 0.75;
   int levels = 0;
-  // The last domain still being factorised gets the BLAS threads of those that have finished (false: one
-  // to the end, for comparison in bench_linear_solver).
-  bool share_idle_cores = true;
+  // The last domain still being factorised gets the BLAS threads of those that have finished. Off by
+  // default: OpenBLAS's results depend on its thread count, and the point at which the count changes
+  // depends on timing, so two factorisations of one matrix differ (the paper mesh's solution by 1.5e-6
+  // relative, against 1.7e-13 with one thread each to the end and 0 whole) for ~2 % of a refactorisation
+  // (docs/performance.md, "Idle cores to the last domain").
+  bool share_idle_cores = false;
 };
 std::unique_ptr<LinearSolver> make_cholmod_split_llt(const CholmodSplitOptions& options = {});
 
