@@ -7,23 +7,22 @@
 
 namespace fibrane::solve {
 
-namespace {
-
-bool square_and_compressed(const Eigen::SparseMatrix<double>& a) { return a.rows() == a.cols() && a.isCompressed(); }
-
-}  // namespace
+// The last pattern's map goes before the new one is built; false where `a` cannot have one.
+bool SymmetryProbe::start(const Eigen::SparseMatrix<double>& a, const std::vector<int>* rows) {
+  release_storage(mirror_);
+  release_storage(entries_);
+  rows_ = rows ? *rows : std::vector<int>{};
+  whole_ = !rows;
+  structurally_symmetric_ = false;
+  nonzeros_ = 0;
+  return a.rows() == a.cols() && a.isCompressed();
+}
 
 // One pass: walking the columns in order meets the entries (row, col) of a fixed row in increasing col,
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
 // without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
-  release_storage(mirror_);  // the last pattern's map goes before the new one is built
-  release_storage(entries_);
-  rows_.clear();
-  structurally_symmetric_ = false;
-  whole_ = true;
-  nonzeros_ = 0;
-  if (!square_and_compressed(a)) return;
+  if (!start(a, {})) return;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   std::vector<int> next(outer, outer + a.cols());
@@ -44,13 +43,7 @@ void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
 // mirror's column.
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows) {
   if (4 * static_cast<Eigen::Index>(rows.size()) > a.rows()) return build(a);
-  release_storage(mirror_);
-  release_storage(entries_);
-  rows_ = rows;
-  structurally_symmetric_ = false;
-  whole_ = false;
-  nonzeros_ = 0;
-  if (!square_and_compressed(a)) return;
+  if (!start(a, &rows)) return;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   const auto in_rows = [&](int i) { return std::binary_search(rows_.begin(), rows_.end(), i); };

@@ -35,6 +35,7 @@ class SymmetryProbe {
   void symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const;
 
  private:
+  bool start(const Eigen::SparseMatrix<double>& a, const std::vector<int>* rows);
   std::vector<int> whole_skew_support(const Eigen::SparseMatrix<double>& a) const;
   std::vector<int> block_skew_support(const Eigen::SparseMatrix<double>& a) const;
 

@@ -67,12 +67,31 @@ struct CaseRun {
   std::filesystem::path directory;
 };
 
+// YAML text read as a case named `name`, from a file written in `dir`.
+inline casefile::Case read_yaml_in(const std::filesystem::path& dir, const std::string& name, const std::string& yaml) {
+  const auto file = dir / (name + ".yaml");
+  std::ofstream(file) << yaml;
+  return casefile::read_case(file.string());
+}
+
+// The same in a fresh temporary directory.
+inline casefile::Case read_yaml(const std::string& name, const std::string& yaml) {
+  return read_yaml_in(fresh_directory(name), name, yaml);
+}
+
+// n unknowns drawn uniformly from [-amplitude, amplitude]: a deformed state for the tangent tests.
+inline Eigen::VectorXd random_unknowns(int n, unsigned seed, double amplitude = 0.05) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-amplitude, amplitude);
+  Eigen::VectorXd q(n);
+  for (int i = 0; i < n; ++i) q[i] = u(rng);
+  return q;
+}
+
 // Runs YAML text as a case named `name` (quiet, in a fresh temporary directory).
 inline CaseRun run_yaml(const std::string& name, const std::string& yaml, int threads = 0) {
   const auto dir = fresh_directory(name);
-  const auto file = dir / (name + ".yaml");
-  std::ofstream(file) << yaml;
-  CaseRun r{casefile::read_case(file.string()), {}, {}, dir / "out"};
+  CaseRun r{read_yaml_in(dir, name, yaml), {}, {}, dir / "out"};
   run::RunOptions opt;
   opt.output_directory = r.directory.string();
   opt.quiet = true;

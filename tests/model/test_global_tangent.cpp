@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <random>
 
 #include "case_runner.hpp"
 #include "linalg/symmetry_probe.hpp"
@@ -43,14 +42,9 @@ steps: {dt: 1}
 )";
 
 TEST(GlobalTangent, MatchesFiniteDifferencesOfReducedResidual) {
-  const auto dir = fresh_directory("global-tangent");
-  std::ofstream(dir / "case.yaml") << curved_shell_and_beam;
-  auto c = casefile::read_case((dir / "case.yaml").string());
+  auto c = read_yaml("global-tangent", curved_shell_and_beam);
   auto& m = *c.model;
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  Eigen::VectorXd q(m.size());
-  for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
+  const Eigen::VectorXd q = random_unknowns(m.size(), 7);
   const double t = 0.7;
   m.evaluate(q, t, true);
   const Eigen::MatrixXd K = Eigen::MatrixXd(m.tangent());
@@ -72,15 +66,9 @@ TEST(GlobalTangent, MatchesFiniteDifferencesOfReducedResidual) {
 // whole probe finds, and the same symmetric part but for the other rows' summation-order round-off (which
 // the whole probe averages away and the other keeps).
 TEST(GlobalTangent, SkewCandidatesHoldTheSkewPart) {
-  const auto dir = fresh_directory("global-tangent-skew");
-  std::ofstream(dir / "case.yaml") << curved_shell_and_beam;
-  auto c = casefile::read_case((dir / "case.yaml").string());
+  auto c = read_yaml("global-tangent-skew", curved_shell_and_beam);
   auto& m = *c.model;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  Eigen::VectorXd q(m.size());
-  for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
-  m.evaluate(q, 0.7, true);
+  m.evaluate(random_unknowns(m.size(), 11), 0.7, true);
   const Eigen::SparseMatrix<double>& k = m.tangent();
   const auto candidates = m.skew_candidates();
   ASSERT_TRUE(candidates.has_value());
@@ -113,9 +101,7 @@ TEST(GlobalTangent, AnalysesTellTheSolverTheSkewCandidates) {
     std::optional<std::vector<int>> rows;
     int analyses = 0, told = 0;
   };
-  const auto dir = fresh_directory("global-tangent-told");
-  std::ofstream(dir / "case.yaml") << curved_shell_and_beam;
-  auto c = casefile::read_case((dir / "case.yaml").string());
+  auto c = read_yaml("global-tangent-told", curved_shell_and_beam);
   auto& m = *c.model;
   m.evaluate(Eigen::VectorXd::Zero(m.size()), 0.5, true);
   Recording solver;

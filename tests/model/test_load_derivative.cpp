@@ -4,8 +4,6 @@
 // them a table (piecewise slope).
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include "case_runner.hpp"
 
 namespace fibrane::testing {
@@ -43,14 +41,9 @@ loads:
 )";
 
 TEST(LoadDerivative, MatchesCentralDifferencesInT) {
-  const auto dir = fresh_directory("load-derivative");
-  std::ofstream(dir / "case.yaml") << loaded_panel_and_rod;
-  auto c = casefile::read_case((dir / "case.yaml").string());
+  auto c = read_yaml("load-derivative", loaded_panel_and_rod);
   auto& m = *c.model;
-  std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-0.05, 0.05);
-  Eigen::VectorXd q(m.size());
-  for (int i = 0; i < q.size(); ++i) q[i] = u(rng);
+  const Eigen::VectorXd q = random_unknowns(m.size(), 11);
   // t = 0.7 lies inside the table's second segment, so the differences see one slope.
   const double t = 0.7, h = 1e-6;
   m.evaluate(q, t, true);
@@ -69,9 +62,7 @@ TEST(LoadDerivative, MatchesCentralDifferencesInT) {
 }
 
 TEST(LoadDerivative, ComesOnlyWithTheTangent) {
-  const auto dir = fresh_directory("load-derivative-residual-only");
-  std::ofstream(dir / "case.yaml") << loaded_panel_and_rod;
-  auto c = casefile::read_case((dir / "case.yaml").string());
+  auto c = read_yaml("load-derivative-residual-only", loaded_panel_and_rod);
   auto& m = *c.model;
   m.evaluate(Eigen::VectorXd::Zero(m.size()), 0.3, false);
   EXPECT_EQ(m.load_derivative().size(), 0);
