@@ -22,7 +22,7 @@ bool SymmetryProbe::start(const Eigen::SparseMatrix<double>& a, const std::vecto
 // which is the order of their mirrors (col, row) in column `row`, so a cursor per column finds them
 // without a binary search per entry (docs/performance.md, "Linear solver").
 void SymmetryProbe::build(const Eigen::SparseMatrix<double>& a) {
-  if (!start(a, {})) return;
+  if (!start(a, nullptr)) return;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   std::vector<int> next(outer, outer + a.cols());

@@ -121,6 +121,29 @@ TEST(SkewCorrection, AutoSolvesThroughTheSymmetricPartAsTheLuDoes) {
   }
 }
 
+// "auto" compares only the rows its caller names (LinearSolver::set_skew_candidates): with the skew rows
+// among them it solves as the LU does; told that no row can be unsymmetric, it takes the symmetric chain
+// (the caller's promise, which it does not check).
+TEST(SkewCorrection, AutoProbesOnlyTheNamedRows) {
+  const SpMat a = with_skew_rows(40, {100, 700, 1200}, 1);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(1600, -1.0, 2.0);
+  auto named = make_linear_solver("auto", false);
+  named->set_skew_candidates(std::vector<int>{99, 100, 101, 102, 699, 700, 701, 1200, 1201});
+  named->analyze(a);
+  ASSERT_TRUE(named->factorize(a)) << named->failure_detail();
+  EXPECT_EQ(named->name(), "symmetric-part(auto(cholmod))+rank-6");
+  const Eigen::VectorXd x = named->solve(b);
+  const Eigen::VectorXd reference = Eigen::MatrixXd(a).partialPivLu().solve(b);
+  EXPECT_LT((x - reference).norm() / reference.norm(), 1e-11);  // as in the test above
+
+  auto promised = make_linear_solver("auto", false);
+  promised->set_skew_candidates(std::vector<int>{});
+  promised->analyze(a);
+  // The chain reads a's lower triangle alone, which need not be definite: its LL^T or LDL^T.
+  ASSERT_TRUE(promised->factorize(a));
+  EXPECT_EQ(promised->name().rfind("symmetric-auto(", 0), 0u) << promised->name();
+}
+
 TEST(SkewCorrection, IndefinitenessInTheSkewRowsStaysWithTheCorrection) {
   // The diagonal of the skew rows lowered by 10 (far below the grid's smallest eigenvalue): the symmetric
   // part is indefinite there, as a point moment's load stiffness makes it. Made diagonally dominant in
