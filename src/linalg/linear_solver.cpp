@@ -15,7 +15,6 @@
 #include "linalg/cholmod_split.hpp"
 #include "linalg/direct_solvers.hpp"
 #include "linalg/krylov_reuse.hpp"
-#include "linalg/release_storage.hpp"
 #include "linalg/skew_correction.hpp"
 #include "linalg/symmetry_probe.hpp"
 
@@ -148,7 +147,6 @@ class SymmetryProbingSolver final : public LinearSolver {
   SymmetryProbingSolver(Factory symmetric_chain, Factory lu)
       : make_symmetric_(std::move(symmetric_chain)), make_lu_(std::move(lu)) {}
   void analyze(const SpMat& a) override {
-    release_storage(s_);  // symmetric_part() writes values only into a matrix of the same size: a new pattern's copy
     if (candidates_) probe_.build(a, *candidates_);
     else probe_.build(a);
     pick(a, choose(a), true);
@@ -159,9 +157,7 @@ class SymmetryProbingSolver final : public LinearSolver {
     pick(a, choose(a), false);
     if (std::exchange(step_starts_, false) && path_ != Path::lu) current_->begin_step();
     if (path_ == Path::skew) {
-      probe_.symmetric_part(a, s_);
-      SkewCorrection::dominate_support(s_, support_);
-      if (current_->factorize(s_) && correction_.prepare(*current_, a, s_, support_)) return true;
+      if (factorize_symmetric_part(a) && correction_.prepare(*current_)) return true;
       pick(a, Path::lu, false);  // S indefinite beyond the chain, or singular: this matrix goes to the LU
     }
     return current_->factorize(a);
@@ -210,6 +206,19 @@ class SymmetryProbingSolver final : public LinearSolver {
     if (support_.empty() && probe_.structurally_symmetric() && probe_.size() == a.nonZeros()) return Path::symmetric;
     return !support_.empty() && support_.size() <= static_cast<size_t>(kMaxSkewRows) ? Path::skew : Path::lu;
   }
+  // The chain's factorisation of S (SkewCorrection::symmetrize), written into a's own storage: a's values
+  // in the skew rows' block are changed for the call and put back before this returns, also when the
+  // chain throws. No solver keeps a reference to a matrix's values past its factorize().
+  bool factorize_symmetric_part(const SpMat& a) {
+    auto& k = const_cast<SpMat&>(a);  // the caller's matrix: its values are the same on return
+    if (!correction_.symmetrize(k, support_)) return false;
+    struct Restore {
+      const SkewCorrection& correction;
+      SpMat& k;
+      ~Restore() { correction.restore(k); }
+    } restore{correction_, k};
+    return current_->factorize(k);
+  }
   // Makes `path` current, analysing its solver if it is another one than before or `analyse` is set. The
   // symmetric chain (with its ordering) serves the symmetric and skew paths. One factor at a time: the
   // chain's factor is freed (its analysis kept) while the LU is in use, and the LU goes, analysis and all,
@@ -227,10 +236,7 @@ class SymmetryProbingSolver final : public LinearSolver {
       if (!lu_) lu_ = make_lu_();
       current_ = lu_.get();
     }
-    if (path != Path::skew) {
-      release_storage(s_);
-      correction_.clear();
-    }
+    if (path != Path::skew) correction_.clear();
     if (analyse || switched) current_->analyze(a);  // hands the freed factor back (direct_solvers.hpp)
   }
 
@@ -239,7 +245,6 @@ class SymmetryProbingSolver final : public LinearSolver {
   std::optional<std::vector<int>> candidates_;  // the rows the probe compares (nullopt: all)
   Path path_ = Path::lu;
   std::vector<int> support_;
-  SpMat s_;  // the symmetric part on the skew path (kept: the next matrix's is written into its pattern)
   SkewCorrection correction_;
   bool step_starts_ = false;  // begin_step() was called: the next matrix is a step's first
   std::unique_ptr<LinearSolver> symmetric_chain_, lu_;

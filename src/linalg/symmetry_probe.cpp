@@ -118,21 +118,4 @@ std::vector<int> SymmetryProbe::block_skew_support(const Eigen::SparseMatrix<dou
   return rows;
 }
 
-void SymmetryProbe::symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const {
-  const bool values_only = s.rows() == a.rows() && s.nonZeros() == a.nonZeros();
-  if (!values_only) s = a;
-  if (!structurally_symmetric_ || a.nonZeros() != size()) return;
-  const double* v = a.valuePtr();
-  double* w = s.valuePtr();
-  const Eigen::Index nnz = a.nonZeros();
-  if (!whole_) {
-    if (values_only) std::copy(v, v + nnz, w);
-    for (std::size_t t = 0; t < entries_.size(); ++t)
-      w[entries_[t]] = 0.5 * (v[entries_[t]] + v[mirror_[t]]);
-    return;
-  }
-#pragma omp parallel for schedule(static) if (nnz > 200000)
-  for (Eigen::Index k = 0; k < nnz; ++k) w[k] = 0.5 * (v[k] + v[mirror_[static_cast<size_t>(k)]]);
-}
-
 }  // namespace fibrane::solve

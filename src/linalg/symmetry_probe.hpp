@@ -30,9 +30,6 @@ class SymmetryProbe {
   // (a - a^T) / 2 lives in these rows and the same columns. Empty without a map, for another pattern, or
   // for a matrix that is symmetric(): a caller that needs both asks only this, in one pass.
   std::vector<int> skew_support(const Eigen::SparseMatrix<double>& a) const;
-  // s = (a + a^T) / 2. Only the values are written when s has as many entries as a, which must then be
-  // a's pattern (a copy of a matrix of the last build()); otherwise s becomes a copy of a first.
-  void symmetric_part(const Eigen::SparseMatrix<double>& a, Eigen::SparseMatrix<double>& s) const;
 
  private:
   bool start(const Eigen::SparseMatrix<double>& a, const std::vector<int>* rows);
