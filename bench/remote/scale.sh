@@ -94,7 +94,7 @@ breakdown() {
   if [ "$limit" -lt 10 ]; then say "$name: skipped (time is up)"; return; fi
   local t0=$SECONDS
   timeout -k 5 "$limit" env LD_LIBRARY_PATH="$libs" OMP_WAIT_POLICY=passive OMP_THREAD_LIMIT="$threads" \
-    GLIBC_TUNABLES=glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1 "$@" \
+    GLIBC_TUNABLES=glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:glibc.malloc.arena_max=1 "$@" \
     time -v -o "$dir/time.0" bench_newton_breakdown "$case" --threads "$threads" > "$dir/table.txt" 2>&1
   local rc=$?
   say "$name: exit $rc after $((SECONDS - t0)) s; $(awk -F': ' '/User time/{u=$2} /System time/{s=$2} /Maximum resident/{m=$2} END{printf "user %.1f s, system %.1f s, peak %.2f GiB", u, s, m/1048576}' "$dir/time.0" 2>/dev/null)"

@@ -56,11 +56,16 @@ void configure_process_environment(int argc, char** argv) {
   // assembly's work arrays, allocated anew at every Newton iteration, fault in fresh zeroed pages each
   // time: with these thresholds the process keeps them, for half the page faults and a few per cent more
   // peak memory. hugetlb=1 asks for transparent huge pages on malloc's memory (madvise; where the system
-  // allows them), so that what is still faulted in comes 2 MiB at a time (docs/performance.md, "The
-  // paper-mesh bending run").
+  // allows them), so that what is still faulted in comes 2 MiB at a time. arena_max=1 keeps every thread
+  // in the main arena: a thread's own arena grows in heaps of at most 64 MiB and serves every larger block
+  // by mmap whatever the thresholds say, so the split factorisation's domains and the pattern merge, which
+  // run on OpenMP's threads, would fault in their factors and arrays anew at every iteration
+  // (docs/performance.md, "The paper-mesh bending run").
   if (!std::getenv("GLIBC_TUNABLES")) {
     setenv("GLIBC_TUNABLES",
-           "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1", 1);
+           "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
+           "glibc.malloc.arena_max=1",
+           1);
     changed = true;
   }
   // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (linalg/linear_solver.hpp,
