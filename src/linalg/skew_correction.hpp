@@ -28,8 +28,8 @@ class SkewCorrection {
   // symmetric part indefinite) do not stop a Cholesky factorisation. Outside the block k must be
   // symmetric (to the round-off of its assembly): a symmetric factorisation reads one of its triangles.
   // Keeps k's values of the block and C = P^T (k - S) P. False, with k unchanged, where an entry of the
-  // block has no mirror in k's pattern. A support row without a diagonal entry keeps its row as it is
-  // (the analysis was made for k's pattern).
+  // block has no mirror in k's pattern. A support row without a diagonal entry in the pattern is not made
+  // dominant (the analysis was made for k's pattern: no entry is added).
   bool symmetrize(Eigen::SparseMatrix<double>& k, std::vector<int> support);
   // Puts k's own values back (k: the matrix symmetrize() changed, its pattern unchanged since).
   void restore(Eigen::SparseMatrix<double>& k) const;
