@@ -59,22 +59,38 @@ double ModelSize::bytes() const {
          kFactorPhase * 12.0 * factor_scale * factor_nonzeros + 8.0 * vectors * dofs + 500.0 * points;
 }
 
+double ModelSize::least_bytes() const {
+  if (!(spill_scale > 0)) return bytes();
+  ModelSize spilled = *this;
+  spilled.factor_scale = spill_scale;
+  return spilled.bytes();
+}
+
+double ModelSize::peak_bytes(double memory) const {
+  return spill_scale > 0 ? std::max(least_bytes(), std::min(bytes(), memory)) : bytes();
+}
+
 void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, int skew_rows) {
   const std::string& kind = settings.kind;
   const bool low_rank_skew = skew_rows > 0 && skew_rows <= solve::kMaxSkewRows;
   const bool lu = kind == "mumps-lu" || kind == "umfpack" || kind == "umfpack64" ||
                   (kind == "auto" && skew_rows != 0 && !low_rank_skew);
   const bool single = settings.precision == "single";
-  const bool out_of_core = !settings.out_of_core_directory.empty();
+  const bool when_needed = settings.out_of_core_when_needed && !settings.out_of_core_directory.empty();
+  const bool out_of_core = !settings.out_of_core_directory.empty() && !when_needed;
   const bool mumps = kind == "mumps" || (kind == "auto" && (single || settings.low_rank > 0 || out_of_core));
   size.factor_scale = lu ? 2.2 : mumps ? 1.1 : 1.0;
   if (single) size.factor_scale *= 0.5;
   if (out_of_core) size.factor_scale *= kOutOfCoreShare;
+  // Spilled, the factorisation is MUMPS's (an LL^T that does not fit goes to its LDL^T).
+  size.spill_scale = when_needed ? (lu ? 2.2 : 1.1) * (single ? 0.5 : 1.0) * kOutOfCoreShare : 0.0;
   const bool krylov = settings.krylov || single || settings.low_rank > 0;
   size.vectors = krylov ? 64.0 : 0.0;  // GMRES(restart) basis and work vectors
   size.path = std::string(lu ? "an LU" : "a symmetric factorisation") + (!lu && low_rank_skew ? " with a low-rank correction" : "") +
               (single ? " in single precision" : "") +
-              (out_of_core ? " out of core" : "") + (krylov ? " with Krylov solves" : "");
+              (out_of_core ? " out of core" : "") +
+              (when_needed ? ", out of core where a factorisation does not fit in memory" : "") +
+              (krylov ? " with Krylov solves" : "");
 }
 
 void check_low_rank(const ModelSize& size, const solve::LinearSolverSettings& settings, const io::YamlNode& steps) {
@@ -144,18 +160,23 @@ ModelSize model_size(const model::Model& m) {
   return total;
 }
 
+double machine_memory() {
+  const std::uint64_t memory = memory_limit();
+  return memory > 0 ? static_cast<double>(memory) : 64.0 * (1ull << 30);
+}
+
 void check_fits(const ModelSize& size, const io::YamlNode& node) {
   const std::uint64_t memory = memory_limit();
-  const double available = memory > 0 ? static_cast<double>(memory) : 64.0 * (1ull << 30);
-  if (size.bytes() <= available) return;
+  const double available = machine_memory();
+  if (size.least_bytes() <= available) return;
   node.fail_message(fmt::format(
       "the model would be too large: about {:.3g} DOFs, {:.3g} elements, {:.3g} matrix non-zeros, estimated "
       "{:.3g} GiB of memory{}, more than the {:.3g} GiB this machine (or its control group) has{}: use fewer elements or a lower degree{}",
-      size.dofs, size.elements, size.nonzeros, size.bytes() / (1ull << 30),
+      size.dofs, size.elements, size.nonzeros, size.least_bytes() / (1ull << 30),
       size.path.empty() ? "" : " (" + size.path + ")", available / (1ull << 30),
       memory > 0 ? "" : " (assumed: /proc/meminfo unreadable)",
       size.path.empty() || size.path.find("out of core") != std::string::npos ? ""
-                                                                               : ", or steps.out_of_core: true"));
+                                                                               : ", or steps.out_of_core: when_needed"));
 }
 
 int optional_int_in(const io::YamlNode& map, const std::string& key, int lo, int hi, int fallback, const std::string& what) {

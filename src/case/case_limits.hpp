@@ -51,9 +51,17 @@ struct ModelSize {
   // path's (kLightestFactorScale): the checks while bodies are read refuse only what no path can hold;
   // the check of the whole case takes the case's path.
   double factor_scale = kLightestFactorScale, vectors = 0;
+  // > 0: a factorisation that does not fit in memory goes out of core, at this factor scale
+  // (steps.out_of_core: when_needed); 0: factor_scale holds for every factorisation.
+  double spill_scale = 0;
   std::string path;  // the solver path, for messages (empty: not known yet)
   ModelSize& operator+=(const ModelSize& o);
   double bytes() const;  // estimated peak memory of the run (a central estimate, not a bound)
+  // The least memory the run needs: bytes() at spill_scale where factorisations may go out of core.
+  double least_bytes() const;
+  // The estimated peak on a machine of `memory` bytes: bytes(), or, where factorisations go out of core
+  // when they do not fit, no more than the machine has (and no less than least_bytes()).
+  double peak_bytes(double memory) const;
 };
 
 // The peak memory of a factorisation's phase (analysis, numeric factorisation, the solver's copy of the
@@ -68,7 +76,8 @@ inline constexpr double kFactorPhase = 3.0;
 // factor_scale 2.2 for an LU (L and U; MUMPS's LU of the bending tangent has 2.2 times the entries of
 // CHOLMOD's LL^T), 1.1 for MUMPS's LDL^T, 1 for CHOLMOD, halved in single precision; block low-rank is
 // taken as full rank (its compression depends on the problem); Krylov solves add GMRES's basis. Out of
-// core only the active fronts and the stack stay in memory: kOutOfCoreShare of the factor.
+// core only the active fronts and the stack stay in memory: kOutOfCoreShare of the factor; out of core
+// where needed (when_needed), the in-memory path's scale and MUMPS's out-of-core one as spill_scale.
 void set_solver_path(ModelSize& size, const solve::LinearSolverSettings& settings, int skew_rows);
 
 // Block low-rank factorisations (steps.low_rank) are refused above this many unknowns (estimated) with a
@@ -96,8 +105,12 @@ ModelSize beam_size(const DirectionPattern& u, double elements, double points);
 // Size of the bodies already in the model.
 ModelSize model_size(const model::Model& m);
 
-// InputError at `node` when `size` does not fit into the machine's memory (memory_limit(), which a
-// control group's limit bounds), naming the estimate.
+// The memory the checks compare with: memory_limit() (which a control group's limit bounds), or 64 GiB
+// where /proc/meminfo cannot be read.
+double machine_memory();
+
+// InputError at `node` when `size` does not fit into machine_memory() (its least_bytes()), naming the
+// estimate.
 void check_fits(const ModelSize& size, const io::YamlNode& node);
 
 }  // namespace fibrane::casefile

@@ -232,7 +232,7 @@ Case read_case_text(std::string text, const std::string& path, const std::string
     const int skew_rows = m.skew_rows();
     set_solver_path(size, c.run.linear_solver, distribution && skew_rows != 0 ? -1 : skew_rows);
     check_fits(size, root.has("steps") ? root["steps"] : root);
-    c.memory_estimate = {size.bytes(), size.path};
+    c.memory_estimate = {size.peak_bytes(machine_memory()), size.path};
     // The limit is the sequential MUMPS's; the parallel one (distributed runs) has none.
     if (!distribution) check_low_rank(size, c.run.linear_solver, root.has("steps") ? root["steps"] : root);
   }

@@ -50,19 +50,13 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
     node["reuse_first_factorization"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
 }
 
-// steps.out_of_core: true (the temporary directory, $TMPDIR or /tmp), false, or a directory, which must
-// exist and be writable (MUMPS writes its factor files there). The directory, or empty for in core.
-std::string read_out_of_core(const io::YamlNode& node) {
-  static const char* const words[] = {"true", "false", "yes", "no", "on", "off", "y", "n"};
-  std::string text = node.as_string(), lower = text;
-  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  std::string directory = text;
-  if (std::find(std::begin(words), std::end(words), lower) != std::end(words)) {
-    if (!node.as_bool()) return {};
+// The directory for MUMPS's factor files that `node` names (or the temporary directory, $TMPDIR or /tmp,
+// for `directory` empty); it must exist and be writable.
+std::string factor_directory(const io::YamlNode& node, std::string directory) {
+  if (directory.empty()) {
     const char* tmp = std::getenv("TMPDIR");
     directory = tmp && *tmp ? tmp : "/tmp";
   }
-  if (directory.empty()) node.fail("true, false, or the directory for the factor's files");
   constexpr size_t kMumpsPathLength = 255;  // OOC_TMPDIR is char[256]
   if (directory.size() > kMumpsPathLength)
     node.fail_message(fmt::format("the directory '{}' has a name longer than MUMPS's {} characters", directory,
@@ -73,6 +67,39 @@ std::string read_out_of_core(const io::YamlNode& node) {
   if (::access(directory.c_str(), W_OK | X_OK) != 0)
     node.fail_message("the directory '" + directory + "' for the out-of-core factor files is not writable");
   return directory;
+}
+
+// steps.out_of_core: true (the factor always in files of the temporary directory), false, a directory
+// (always, there), when_needed (in memory, and in files of the temporary directory where a factorisation
+// does not fit), or a map {when: always | needed, directory: D}.
+void read_out_of_core(solve::LinearSolverSettings& ls, const io::YamlNode& node) {
+  ls.out_of_core_when_needed = false;
+  ls.out_of_core_directory.clear();
+  if (node.is_map()) {
+    const bool needed = node.has("when") && node["when"].as_choice({"always", "needed"}) == "needed";
+    std::string directory;
+    if (auto d = node.optional("directory")) {
+      directory = d->as_string();
+      if (directory.empty()) d->fail("the directory for the factor's files");
+    }
+    node.reject_unknown_keys();
+    ls.out_of_core_directory = factor_directory(node, directory);
+    ls.out_of_core_when_needed = needed;
+    return;
+  }
+  static const char* const words[] = {"true", "false", "yes", "no", "on", "off", "y", "n"};
+  const std::string text = node.as_string();
+  std::string lower = text;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (text.empty()) node.fail("true, false, when_needed, or the directory for the factor's files");
+  if (lower == "when_needed") {
+    ls.out_of_core_directory = factor_directory(node, {});
+    ls.out_of_core_when_needed = true;
+  } else if (std::find(std::begin(words), std::end(words), lower) == std::end(words)) {
+    ls.out_of_core_directory = factor_directory(node, text);
+  } else if (node.as_bool()) {
+    ls.out_of_core_directory = factor_directory(node, {});
+  }
 }
 
 // steps.solver, precision, low_rank, out_of_core, split and krylov (a map, or true for its defaults).
@@ -92,17 +119,18 @@ void read_linear_solver(solve::LinearSolverSettings& ls, const io::YamlNode& nod
       ls.krylov = k->as_bool();
     }
   }
-  if (auto o = node.optional("out_of_core")) ls.out_of_core_directory = read_out_of_core(*o);
+  if (auto o = node.optional("out_of_core")) read_out_of_core(ls, *o);
   if (auto v = node.optional("split")) {
     ls.split = v->as_bool();
     if (ls.split && ls.kind != "auto" && ls.kind != "cholmod")
       v->fail_message("split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not " + ls.kind);
   }
-  const bool mumps_only = ls.precision == "single" || ls.low_rank > 0 || !ls.out_of_core_directory.empty();
+  const bool always_out_of_core = !ls.out_of_core_directory.empty() && !ls.out_of_core_when_needed;
+  const bool mumps_only = ls.precision == "single" || ls.low_rank > 0 || always_out_of_core;
   if (ls.split && mumps_only)
     node["split"].fail_message("split is CHOLMOD's Cholesky in two halves; single-precision, low-rank and "
-                               "out-of-core factorisations are MUMPS's");
-  if (mumps_only && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu")) {
+                               "out-of-core factorisations are MUMPS's (out_of_core: when_needed keeps it)");
+  if ((mumps_only || ls.out_of_core_when_needed) && !(ls.kind == "auto" || ls.kind == "mumps" || ls.kind == "mumps-lu")) {
     const char* key = node.has("precision") ? "precision" : node.has("low_rank") ? "low_rank" : "out_of_core";
     node[key].fail_message("single-precision, low-rank and out-of-core factorisations are MUMPS's: they need "
                            "solver auto, mumps or mumps-lu, not " + ls.kind);

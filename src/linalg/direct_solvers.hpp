@@ -76,6 +76,11 @@ struct MumpsOptions {
   // The files (named fibrane-<process id>-*) are deleted with the factor (a new analysis, or the solver's
   // end). The solution is the in-core factorisation's to round-off (exact() is unchanged).
   std::string out_of_core_directory;
+  // With out_of_core_directory: each factorisation is in core where the analysis's in-core estimate, with
+  // a tenth more, fits the memory limit (memory_limit_megabytes), and out of core where it does not or
+  // where an in-core attempt stops for memory (INFOG(1) = -13, -19, or -9 at the limit). name() and
+  // analysis_summary() tell which the last factorisation was.
+  bool out_of_core_when_needed = false;
   // ICNTL(23), the most memory one factorisation may take (factorization_memory_limit). A factorisation
   // that would need more stops with INFOG(1) = -19, or -9 when delayed pivots outgrow it.
   long memory_limit_megabytes = kAvailableMemory;

@@ -36,6 +36,15 @@ namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
 
+// MUMPS's options for `memory`: its limit, and out of core where a factorisation does not fit in memory.
+MumpsOptions spilling_mumps(const SolverMemory& memory) {
+  MumpsOptions o;
+  o.memory_limit_megabytes = memory.limit_megabytes;
+  o.out_of_core_directory = memory.spill_directory;
+  o.out_of_core_when_needed = !memory.spill_directory.empty();
+  return o;
+}
+
 // LL^T first, then a symmetric indefinite factorisation. An indefinite tangent is often a single wild
 // Newton iterate: on the bending example at 300 x 75 x 75 only the first update of the first step was
 // indefinite, and staying on LU afterwards cost more per iteration than LL^T (docs/performance.md,
@@ -60,13 +69,19 @@ using SpMat = Eigen::SparseMatrix<double>;
 // simplicial LDL^T). The freed memory stays in the process for the other factor (handing it back to the
 // system made every switch fault in fresh pages), so the peak is about the larger factor's, not both
 // together's (docs/performance.md, "One factor at a time").
+//
+// With a spill directory (LinearSolverSettings::out_of_core_when_needed), MUMPS's LDL^T factorises out of
+// core where its in-core factor does not fit the memory limit, and a matrix whose LL^T is refused for
+// memory goes to it too.
 class AutoSolver final : public LinearSolver {
  public:
   static constexpr Eigen::Index kSimplicialLimit = 20000;
-  explicit AutoSolver(bool split) : split_(split) {}
+  AutoSolver(bool split, SolverMemory memory) : split_(split), memory_(std::move(memory)) {}
   void analyze(const SpMat& a) override {
     fallback_.reset();  // first, so that llt_'s hand-back (direct_solvers.hpp) includes its factor
-    if (!llt_) llt_ = split_ ? make_cholmod_split_llt() : make_cholmod_llt();
+    if (!llt_)
+      llt_ = split_ ? make_cholmod_split_llt({.memory_limit_megabytes = memory_.limit_megabytes})
+                    : make_cholmod_llt(memory_.limit_megabytes);
     llt_->analyze(a);
     current_ = llt_.get();
   }
@@ -80,8 +95,9 @@ class AutoSolver final : public LinearSolver {
         if (first_of_step) step_start_indefinite_ = false;
         return true;
       }
-      // Refused for memory (the only failure CHOLMOD explains): the fallback's factor is no smaller.
-      if (!llt_->failure_detail().empty()) return false;
+      // Refused for memory (the only failure CHOLMOD explains): the fallback's factor is no smaller in
+      // core, but it may go out of core.
+      if (!llt_->failure_detail().empty() && memory_.spill_directory.empty()) return false;
     }
     llt_->release_factor();
     const bool ok = factorize_fallback(a);
@@ -109,11 +125,18 @@ class AutoSolver final : public LinearSolver {
 
  private:
   bool split_;  // the LL^T in domains side by side (cholmod_split.hpp)
+  SolverMemory memory_;
   bool factorize_fallback(const SpMat& a) {
     if (!fallback_) {
-      if (mumps_available()) fallback_ = make_mumps({.pivot_order = cholmod_pivot_order(*llt_), .out_of_core_directory = {}});
-      else if (a.rows() > kSimplicialLimit) fallback_ = make_umfpack(true);
-      else fallback_ = make_cholmod_ldlt();
+      if (mumps_available()) {
+        MumpsOptions o = spilling_mumps(memory_);
+        o.pivot_order = cholmod_pivot_order(*llt_);
+        fallback_ = make_mumps(o);
+      } else if (a.rows() > kSimplicialLimit) {
+        fallback_ = make_umfpack(true);
+      } else {
+        fallback_ = make_cholmod_ldlt(memory_.limit_megabytes);
+      }
       fallback_->analyze(a);
     }
     current_ = fallback_.get();
@@ -278,26 +301,30 @@ std::unique_ptr<LinearSolver> make_lu(MumpsOptions options) {
 
 }  // namespace
 
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split) {
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split,
+                                                 const SolverMemory& memory) {
+  const MumpsOptions spill = spilling_mumps(memory);
   if (kind == "umfpack") return make_umfpack();
   if (kind == "umfpack64") return make_umfpack(true);
   if (kind == "mumps-lu") {
     if (!mumps_available()) throw InputError("linear solver 'mumps-lu': this fibrane was built without MUMPS");
-    return make_lu({});
+    return make_lu(spill);
   }
   if (kind == "auto") {
     if (!symmetric)
-      return std::make_unique<SymmetryProbingSolver>([split] { return std::make_unique<AutoSolver>(split); },
-                                                     [] { return make_lu({}); });
-    return std::make_unique<AutoSolver>(split);
+      return std::make_unique<SymmetryProbingSolver>(
+          [split, memory] { return std::make_unique<AutoSolver>(split, memory); }, [spill] { return make_lu(spill); });
+    return std::make_unique<AutoSolver>(split, memory);
   }
   if (kind == "cholmod" || kind == "ldlt" || kind == "mumps") {
     if (!symmetric)
       throw InputError("linear solver '" + kind + "' needs a symmetric matrix; use 'auto', 'mumps-lu' or 'umfpack'");
-    if (kind == "cholmod") return split ? make_cholmod_split_llt() : make_cholmod_llt();
-    if (kind == "ldlt") return make_cholmod_ldlt();
+    if (kind == "cholmod")
+      return split ? make_cholmod_split_llt({.memory_limit_megabytes = memory.limit_megabytes})
+                   : make_cholmod_llt(memory.limit_megabytes);
+    if (kind == "ldlt") return make_cholmod_ldlt(memory.limit_megabytes);
     if (!mumps_available()) throw InputError("linear solver 'mumps': this fibrane was built without MUMPS");
-    return make_mumps();
+    return make_mumps(spill);
   }
   throw InputError("unknown linear solver '" + kind +
                    "' (expected auto, cholmod, ldlt, mumps, mumps-lu, umfpack or umfpack64)");
@@ -308,9 +335,12 @@ namespace {
 // The direct solver of `settings`; with approximate = false, its exact counterpart (double precision,
 // full rank) for the same path. Out of core where the settings say so, exact or not.
 std::unique_ptr<LinearSolver> make_direct(const LinearSolverSettings& settings, bool symmetric, bool approximate) {
-  const bool out_of_core = !settings.out_of_core_directory.empty();
+  const bool when_needed = settings.out_of_core_when_needed;
+  const bool out_of_core = !settings.out_of_core_directory.empty() && !when_needed;
   if (!approximate && !out_of_core)
-    return make_linear_solver(settings.kind == "mumps-lu" ? "mumps-lu" : settings.kind, symmetric, settings.split);
+    return make_linear_solver(settings.kind, symmetric, settings.split,
+                              {.limit_megabytes = settings.memory_limit_megabytes,
+                               .spill_directory = when_needed ? settings.out_of_core_directory : std::string()});
   const std::string what = !approximate ? "out_of_core" : settings.low_rank > 0 ? "low_rank" : "precision: single";
   if (!mumps_available()) throw InputError("'" + what + "' needs MUMPS, and this fibrane was built without it");
   MumpsOptions o;
@@ -319,6 +349,8 @@ std::unique_ptr<LinearSolver> make_direct(const LinearSolverSettings& settings, 
   o.low_rank = approximate && settings.low_rank > 0;
   o.low_rank_tolerance = settings.low_rank;
   o.out_of_core_directory = settings.out_of_core_directory;
+  o.out_of_core_when_needed = when_needed;
+  o.memory_limit_megabytes = settings.memory_limit_megabytes;
   if (settings.kind == "mumps-lu") return make_lu(o);
   if (settings.kind == "mumps" || settings.kind == "auto") {
     if (symmetric) return make_mumps(o);

@@ -74,6 +74,17 @@ class LinearSolver {
   Eigen::Index analyzed_rows_ = -1, analyzed_nonzeros_ = -1;
 };
 
+// The memory of make_linear_solver()'s factorisations.
+struct SolverMemory {
+  // The most one factorisation may take, in MB (direct_solvers.hpp's factorization_memory_limit): -1 (its
+  // kAvailableMemory) what the process can still take when the factorisation begins, 0 no limit.
+  long limit_megabytes = -1;
+  // Non-empty (LinearSolverSettings::out_of_core_when_needed): MUMPS's factorisations (auto's LDL^T and LU,
+  // mumps, mumps-lu) go out of core into this directory where an in-core one does not fit the limit
+  // (MumpsOptions::out_of_core_when_needed), and auto's LL^T refused for memory goes to MUMPS.
+  std::string spill_directory;
+};
+
 // How a run solves its linear systems (case files: steps.solver, steps.precision, steps.low_rank,
 // steps.out_of_core, steps.krylov).
 struct LinearSolverSettings {
@@ -85,6 +96,12 @@ struct LinearSolverSettings {
   // Non-empty: MUMPS factorisations out of core, the factor in files in this directory (the symmetric
   // chain's LL^T becomes MUMPS's LDL^T, as for single precision); the solves are exact.
   std::string out_of_core_directory;
+  // With out_of_core_directory: the in-memory path (CHOLMOD's LL^T first) whose factorisations go out of
+  // core only where they do not fit the memory that is left (steps.out_of_core: when_needed; MumpsOptions::
+  // out_of_core_when_needed): an LL^T refused for memory goes to MUMPS's LDL^T, and MUMPS's factor goes to
+  // the files where its in-core estimate does not fit.
+  bool out_of_core_when_needed = false;
+  long memory_limit_megabytes = -1;  // SolverMemory::limit_megabytes
   // CHOLMOD's LL^T (kinds auto and cholmod) in domains side by side below METIS's separators, as many as
   // threads, from 100 000 unknowns on with two threads or more (linalg/cholmod_split.hpp); case key
   // steps.split.
@@ -120,7 +137,9 @@ std::unique_ptr<LinearSolver> make_linear_solver(const LinearSolverSettings& set
 // split: CHOLMOD's LL^T of "auto" and "cholmod" in domains side by side (LinearSolverSettings::split); there
 // an indefinite matrix stays in the split, its indefinite domains and fronts factorised by LDL^T
 // (cholmod_split.hpp), where the build has MUMPS.
-std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split = false);
+// memory: the factorisations' memory limit, and where they go when they do not fit (SolverMemory).
+std::unique_ptr<LinearSolver> make_linear_solver(const std::string& kind, bool symmetric, bool split = false,
+                                                 const SolverMemory& memory = {});
 
 // Bounds every thread pool the solvers and the assembly use to n threads (n <= 0: no change): OpenMP's
 // (omp_set_num_threads) and OpenBLAS's (openblas_set_num_threads, found at run time, so any BLAS

@@ -65,6 +65,8 @@ constexpr int kUseCommWorld = -987654;  // MUMPS's communicator value for the se
 //   under the limit is not repeated, since more relaxation only takes memory from the factor's share.
 //   (Set when memory is plentiful, it costs: MUMPS then spreads over the larger work space instead of
 //   compacting it; docs/performance.md, "A factorisation's memory limit".)
+// - ICNTL(22): out of core (1) or in core (0). MUMPS reads it at each factorisation, and the solves
+//   follow the factorisation's choice, so one analysis serves both (MumpsOptions::out_of_core_when_needed).
 // - ICNTL(10) = 0: no iterative refinement inside MUMPS; a single-precision or low-rank factor is refined
 //   in double precision by the caller (KrylovReuseSolver).
 template <class Arithmetic>
@@ -86,7 +88,7 @@ class MumpsSolver final : public LinearSolver {
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override;
   std::string name() const override {
     return std::string(options_.unsymmetric ? "mumps-lu" : "mumps") + Arithmetic::suffix +
-           (options_.low_rank ? "-blr" : "") + (options_.out_of_core_directory.empty() ? "" : "-ooc");
+           (options_.low_rank ? "-blr" : "") + (out_of_core() ? "-ooc" : "");
   }
   long factor_nonzeros() const override;
   std::string analysis_summary() const override;
@@ -116,11 +118,12 @@ class MumpsSolver final : public LinearSolver {
       icntl(35) = 2;
       id_.cntl[6] = static_cast<Real>(options_.low_rank_tolerance);  // CNTL(7)
     }
-    if (!options_.out_of_core_directory.empty()) set_out_of_core();
+    if (!options_.out_of_core_directory.empty()) set_out_of_core_files();
+    icntl(22) = options_.out_of_core_directory.empty() || options_.out_of_core_when_needed ? 0 : 1;
   }
-  // ICNTL(22) = 1 with OOC_TMPDIR and OOC_PREFIX (the process id, so that runs sharing the directory
-  // keep apart); MUMPS deletes its files at JOB = -2.
-  void set_out_of_core() {
+  // OOC_TMPDIR and OOC_PREFIX (the process id, so that runs sharing the directory keep apart); MUMPS
+  // deletes its files at JOB = -2 and at the next factorisation.
+  void set_out_of_core_files() {
     const std::string& dir = options_.out_of_core_directory;
     const std::string prefix = "fibrane-" + std::to_string(::getpid()) + "-";
     if (dir.size() >= sizeof(id_.ooc_tmpdir))
@@ -128,8 +131,10 @@ class MumpsSolver final : public LinearSolver {
                                   std::to_string(sizeof(id_.ooc_tmpdir) - 1) + " characters: " + dir);
     std::snprintf(id_.ooc_tmpdir, sizeof(id_.ooc_tmpdir), "%s", dir.c_str());
     std::snprintf(id_.ooc_prefix, sizeof(id_.ooc_prefix), "%s", prefix.c_str());
-    icntl(22) = 1;
   }
+  // Whether the last (or next) factorisation keeps its factor in files: ICNTL(22), which MUMPS reads at
+  // the factorisation and which then holds for its solves.
+  bool out_of_core() const { return icntl(22) == 1; }
   // ICNTL(23) for the next attempt, in MB (0: MUMPS's own sizing), from the limit and the analysis's
   // estimate scaled to the attempt's relaxation ICNTL(14) (the analysis used `relaxation`).
   int memory_limit(int relaxation) const {
@@ -140,14 +145,27 @@ class MumpsSolver final : public LinearSolver {
   }
   // The analysis's estimate of the factorisation's memory in MB: INFOG(17) in core, INFOG(27) out of core,
   // INFOG(36) and INFOG(38) for low-rank (sums over processes; one process here).
-  int estimated_megabytes() const {
-    const bool ooc = !options_.out_of_core_directory.empty();
+  int estimated_megabytes(bool ooc) const {
     return options_.low_rank ? (ooc ? infog(38) : infog(36)) : (ooc ? infog(27) : infog(17));
   }
+  int estimated_megabytes() const { return estimated_megabytes(out_of_core()); }
   // 1-based accessors of MUMPS's control and information arrays, as the user guide numbers them.
   int& icntl(int i) { return id_.icntl[i - 1]; }
   int icntl(int i) const { return id_.icntl[i - 1]; }
   int infog(int i) const { return id_.infog[i - 1]; }
+  // Whether the analysis's in-core estimate, with a tenth more, fits the memory limit (or there is none).
+  bool fits_in_core() const {
+    const double limit = factorization_memory_limit(options_.memory_limit_megabytes) / (1 << 20);
+    return limit <= 0 || 1.1 * estimated_megabytes(false) <= limit;
+  }
+  // Whether the last factorisation stopped for want of memory: an allocation refused, or its limit.
+  bool failed_for_memory() const {
+    const int status = infog(1);
+    return status == -13 || status == -19 || (status == -9 && icntl(23) > 0);
+  }
+  // JOB = 2 in the current mode (ICNTL(22)), repeated with more relaxation where delayed pivots outgrow
+  // the work space (ICNTL(14), above).
+  void run_factorization();
   void record_status() {
     last_status_ = infog(1);
     last_status2_ = infog(2);
@@ -242,11 +260,24 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
   }
   const BlasThreadsForFactor threads(factor_nonzeros());
   id_.a = values_.data();
+  const bool when_needed = options_.out_of_core_when_needed && !options_.out_of_core_directory.empty();
+  if (when_needed) icntl(22) = fits_in_core() ? 0 : 1;
+  run_factorization();
+  if (when_needed && !out_of_core() && failed_for_memory()) {
+    icntl(22) = 1;
+    run_factorization();
+  }
+  record_status();
+  factored_ = infog(1) >= 0;
+  return factored_;
+}
+
+template <class Arithmetic>
+void MumpsSolver<Arithmetic>::run_factorization() {
   const int relaxation = icntl(14);
   // Out of core, the factor is read back through the system's page cache at every solve; memory that the
   // process has freed but keeps (the last iteration's work arrays) would take that cache's place.
-  const bool out_of_core = !options_.out_of_core_directory.empty();
-  if (out_of_core) hand_back_freed_memory();
+  if (out_of_core()) hand_back_freed_memory();
   for (int attempt = 0; attempt < 4; ++attempt) {
     icntl(23) = memory_limit(relaxation);
     id_.job = 2;
@@ -256,10 +287,7 @@ bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
     icntl(14) *= 2;
   }
   icntl(14) = relaxation;
-  if (out_of_core) hand_back_freed_memory();  // the factorisation's own work space beyond the stack
-  record_status();
-  factored_ = infog(1) >= 0;
-  return factored_;
+  if (out_of_core()) hand_back_freed_memory();  // the factorisation's own work space beyond the stack
 }
 
 template <class Arithmetic>
@@ -309,7 +337,7 @@ std::string MumpsSolver<Arithmetic>::analysis_summary() const {
   static const char* const names[] = {"AMD", "the given order", "AMF", "SCOTCH", "PORD", "METIS", "QAMD"};
   const int ordering = infog(7);
   const std::string method = ordering >= 0 && ordering <= 6 ? names[ordering] : "ordering " + std::to_string(ordering);
-  const bool ooc = !options_.out_of_core_directory.empty();
+  const bool ooc = out_of_core();
   const int megabytes = factored_ ? infog(22) : estimated_megabytes();
   return std::to_string(analyses_) + " with " + method + ", " + std::to_string(megabytes) + " MB" +
          (options_.low_rank ? ", block low-rank" : "") + (ooc ? ", factor on disk" : "");

@@ -13,7 +13,6 @@
 
 #include <fmt/format.h>
 
-#include "common/error.hpp"
 #include "parallel/row_pattern.hpp"
 #include "linalg/symmetry_probe.hpp"
 
@@ -415,36 +414,6 @@ std::string PetscSolver::analysis_summary() const {
 }
 
 }  // namespace
-
-PetscSolverOptions petsc_solver_options(const solve::LinearSolverSettings& settings, const std::string& mpi_solver,
-                                        bool symmetric_model) {
-  const std::string& kind = settings.kind;
-  if (kind != "auto" && kind != "mumps" && kind != "mumps-lu")
-    throw InputError("steps.solver: '" + kind + "' is a serial solver; a distributed run factorises with MUMPS "
-                     "through PETSc: use auto (LDL^T while the tangent is symmetric, LU otherwise), mumps or mumps-lu");
-  if (kind == "mumps" && !symmetric_model)
-    throw InputError("steps.solver: 'mumps' (LDL^T) needs a symmetric tangent, which this model cannot promise; "
-                     "use auto or mumps-lu");
-  if (settings.precision != "double")
-    throw InputError("steps.precision: '" + settings.precision + "' is not available in a distributed run: "
-                     "PETSc's scalars are double precision, and its MUMPS factorises in them");
-  const bool krylov = settings.krylov || settings.low_rank > 0;
-  if (mpi_solver == "mumps" && krylov)
-    throw InputError(std::string("--mpi-solver mumps asks for direct solves, but the case's steps.") +
-                     (settings.low_rank > 0 ? "low_rank" : "krylov") + " asks for Krylov solves: drop one");
-  PetscSolverOptions o;
-  o.lu = kind == "mumps-lu";
-  o.out_of_core_directory = settings.out_of_core_directory;
-  if (krylov) {
-    o.method = PetscSolverOptions::Method::gmres;
-    o.relative_tolerance = settings.krylov_tolerance;
-    o.max_iterations = settings.krylov_max_iterations;
-    o.low_rank = settings.low_rank;
-  } else if (mpi_solver == "gmres") {
-    o.method = PetscSolverOptions::Method::gmres;
-  }
-  return o;
-}
 
 std::unique_ptr<solve::LinearSolver> make_petsc_solver(const PetscSolverOptions& options, bool symmetric,
                                                        const MpiDistribution& distribution,

@@ -47,8 +47,9 @@ struct PetscSolverOptions {
 // solves; "gmres") ask for: `krylov` and `low_rank` take GMRES with the case's tolerance and iteration
 // limit. InputError for what the distributed path cannot do: a serial solver named in steps.solver,
 // `mumps` (LDL^T) for a model that cannot promise symmetric tangents (`symmetric_model`, as the serial
-// path refuses it), precision: single (PETSc's scalars are double), or --mpi-solver mumps against the
-// case's Krylov solves.
+// path refuses it), precision: single (PETSc's scalars are double), out_of_core: when_needed (a serial
+// run's choice per factorisation), or --mpi-solver mumps against the case's Krylov solves
+// (petsc_solver_options.cpp).
 PetscSolverOptions petsc_solver_options(const solve::LinearSolverSettings& settings, const std::string& mpi_solver,
                                         bool symmetric_model);
 

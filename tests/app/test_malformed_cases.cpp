@@ -66,6 +66,11 @@ const Malformed cases[] = {
     {"out_of_core_with_cholmod", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: cholmod, out_of_core: true}",
      "steps.out_of_core: single-precision, low-rank and out-of-core factorisations are MUMPS's: they need solver "
      "auto, mumps or mumps-lu, not cholmod"},
+    {"out_of_core_when_needed_with_cholmod", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: cholmod, out_of_core: when_needed}",
+     "steps.out_of_core: single-precision, low-rank and out-of-core factorisations are MUMPS's: they need solver "
+     "auto, mumps or mumps-lu, not cholmod"},
+    {"out_of_core_when_unknown", "steps: {dt: 0.5}", "steps: {dt: 0.5, out_of_core: {when: sometimes}}",
+     "steps.out_of_core.when: expected one of 'always', 'needed', got 'sometimes'"},
     {"split_with_mumps", "steps: {dt: 0.5}", "steps: {dt: 0.5, solver: mumps, split: true}",
      "steps.split: split is CHOLMOD's Cholesky in two halves: it needs solver auto or cholmod, not mumps"},
     {"split_with_single_precision", "steps: {dt: 0.5}", "steps: {dt: 0.5, split: true, precision: single}",

@@ -88,6 +88,21 @@ TEST(SolverPathSize, EstimateFollowsThePath) {
   EXPECT_DOUBLE_EQ(disk_lu.vectors, 0.0);
   EXPECT_NE(disk_lu.path.find("out of core"), std::string::npos);
   EXPECT_LT(disk_lu.bytes(), cholesky.bytes());
+  // Out of core where needed: the in-memory path's scale (CHOLMOD's LL^T), and MUMPS's out-of-core one
+  // for what does not fit. The case needs the latter's memory; its peak lies between the two, bounded
+  // by the machine's.
+  settings.out_of_core_when_needed = true;
+  const ModelSize spill = factor_bytes(settings, 0);
+  EXPECT_DOUBLE_EQ(spill.factor_scale, 1.0);
+  EXPECT_DOUBLE_EQ(spill.spill_scale, 1.1 * kOutOfCoreShare);
+  EXPECT_DOUBLE_EQ(spill.bytes(), cholesky.bytes());
+  EXPECT_DOUBLE_EQ(spill.least_bytes(), disk_ldlt.bytes());
+  EXPECT_DOUBLE_EQ(spill.peak_bytes(1e30), spill.bytes());
+  EXPECT_DOUBLE_EQ(spill.peak_bytes(0), spill.least_bytes());
+  const double between = 0.5 * (spill.bytes() + spill.least_bytes());
+  EXPECT_DOUBLE_EQ(spill.peak_bytes(between), between);
+  EXPECT_DOUBLE_EQ(disk_ldlt.peak_bytes(0), disk_ldlt.bytes());
+  EXPECT_DOUBLE_EQ(factor_bytes(settings, -1).spill_scale, 2.2 * kOutOfCoreShare);
 }
 
 // The estimate against the whole runs' peak memory (maximum resident set) of the full bending membrane
@@ -95,7 +110,8 @@ TEST(SolverPathSize, EstimateFollowsThePath) {
 // elements, fiber of 4N; "auto" with a low-rank skew correction), measured with 2 threads
 // (docs/performance.md, "The memory estimate"): within -25 % and +40 % at 47 k and 278 k unknowns. At
 // 1.1 M the run in memory was ended by the system's out-of-memory killer at 22.7 GiB on the 23.5 GiB
-// development machine: the estimate must refuse it there, and let it through out of core (11.5 GiB).
+// development machine: the estimate must refuse it there, and let it through out of core (11.5 GiB), also
+// out of core where needed (least_bytes()).
 TEST(SolverPathSize, EstimateTracksTheMeasuredPeaks) {
   const auto estimate = [](int n, const solve::LinearSolverSettings& settings) {
     const DirectionPattern u = direction_pattern(spline::KnotVector::open_uniform(4, n, 1));
@@ -103,7 +119,7 @@ TEST(SolverPathSize, EstimateTracksTheMeasuredPeaks) {
     ModelSize size = shell_size(u, u, n * n, 25);
     size += beam_size(fiber, 4 * n, 5);
     set_solver_path(size, settings, 13);
-    const double gib = size.bytes() / (1ull << 30);
+    const double gib = size.least_bytes() / (1ull << 30);
     std::printf("    %d x %d, %s: %.3g unknowns, %.3g non-zeros, %.3g factor entries, %.2f GiB estimated\n", n,
                 n, size.path.c_str(), size.dofs, size.nonzeros, size.factor_nonzeros, gib);
     return gib;
@@ -122,6 +138,10 @@ TEST(SolverPathSize, EstimateTracksTheMeasuredPeaks) {
     EXPECT_LT(gib, 1.4 * run.peak_gib);
   }
   EXPECT_GT(estimate(200, in_memory), 23.5);
+  // Out of core where needed, the 1.1 M membrane is let through: it needs what the run out of core needs.
+  solve::LinearSolverSettings when_needed = on_disk;
+  when_needed.out_of_core_when_needed = true;
+  EXPECT_LT(estimate(200, when_needed), 23.5);
 }
 
 TEST(SolverPathSize, ModelKnowsItsSymmetryBeforeItIsFinalised) {
