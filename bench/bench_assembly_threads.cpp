@@ -34,7 +34,7 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   const char* usage =
       "usage: bench_assembly_threads CASE.yaml [--rounds R] [--threads N] [--replace FROM TO]...\n"
       "  alternates the coloured assembly and the per-thread buffers, R rounds (default 5)\n";
@@ -72,3 +72,5 @@ int main(int argc, char** argv) {
   fmt::print("buffers held after the buffered rounds: {:.1f} MiB\n", m.assembly_buffer_bytes() / 1048576.0);
   return 0;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

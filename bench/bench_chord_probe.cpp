@@ -111,7 +111,7 @@ class ProbeSolver : public fibrane::solve::LinearSolver {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage = "usage: bench_chord_probe CASE.yaml [--threads N] [--every K] [--t-end T] [--replace FROM TO]...\n";
   int every = 6, code = 0;
@@ -145,3 +145,5 @@ int main(int argc, char** argv) {
   fmt::print("{}\n", result.completed() ? "completed" : result.message);
   return 0;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

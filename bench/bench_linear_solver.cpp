@@ -174,7 +174,7 @@ std::string best_median(std::vector<double> v) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage =
       "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
@@ -260,3 +260,5 @@ int main(int argc, char** argv) {
                r.negative, r.residual, rounds > 1 ? fmt::format("{:.1e}", r.change) : "-", *std::max_element(r.memory.begin(), r.memory.end()), r.summary);
   return 0;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

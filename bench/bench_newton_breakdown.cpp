@@ -99,7 +99,7 @@ long peak_memory_kib() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage =
       "usage: bench_newton_breakdown CASE.yaml [--t-end T] [--threads N] [--reuse R] [--assembly A]\n"
@@ -186,3 +186,5 @@ int main(int argc, char** argv) {
   fmt::print("| wall time | {:.2f} s |\n| peak memory | {:.1f} MiB |\n", wall, peak_memory_kib() / 1024.0);
   return result.completed() ? 0 : 1;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

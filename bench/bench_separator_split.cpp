@@ -61,7 +61,7 @@ Timed factorise_twice(LinearSolver& solver, const SpMat& a) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage = "usage: bench_separator_split CASE.yaml [--threads N] [--replace FROM TO]...\n";
   int code = 0;
@@ -116,3 +116,5 @@ int main(int argc, char** argv) {
   fmt::print("separator's dense LL^T ({} x {}): {:.3f} s\n", s, s, seconds_of([&] { llt.compute(dense); }));
   return 0;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

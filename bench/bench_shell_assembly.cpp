@@ -128,7 +128,7 @@ struct Breakdown {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_bench(int argc, char** argv) {
   if (help_requested(argc, argv,
                      "usage: bench_shell_assembly [ELEMENTS_PER_DIRECTION (32)] [REPETITIONS (5)]\n"
                      "  shell assembly of a Scordelis-Lo roof with 1, 2, ... threads\n"))
@@ -202,3 +202,5 @@ int main(int argc, char** argv) {
               std::isfinite(energy) ? "" : " (non-finite energy)");
   return ok ? 0 : 1;
 }
+
+int main(int argc, char** argv) { return guarded_main(argc, argv, run_bench); }

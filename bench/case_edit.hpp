@@ -13,7 +13,22 @@
 #include <utility>
 #include <vector>
 
+#include "common/error.hpp"
 #include "linalg/linear_solver.hpp"
+
+// Runs a bench program's body. An input error (a case file, a checkpoint given with --state) is printed with
+// exit code 2, any other exception with exit code 1, as `fibrane` does, instead of ending in std::terminate.
+inline int guarded_main(int argc, char** argv, int (*body)(int, char**)) {
+  try {
+    return body(argc, argv);
+  } catch (const fibrane::InputError& e) {
+    std::cerr << argv[0] << ": error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << argv[0] << ": " << e.what() << "\n";
+    return 1;
+  }
+}
 
 // True (after printing `usage` on stdout) when the first argument asks for help: the caller returns 0.
 inline bool help_requested(int argc, char** argv, const char* usage) {
