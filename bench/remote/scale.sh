@@ -168,7 +168,7 @@ fi
 
 if part 3; then
   say "== 3. full membrane at the paper's resolution (1.1 M), one step, $big_procs processes of 2 threads"
-  measure "big-p$big_procs" "$big_procs" 2 "$(($(left) - 5))" "$big" --max-steps 1 --mpi-solver mumps
+  measure "big-p$big_procs" "$big_procs" 2 "$(($(left) - 5))" "$work/big-in-memory.yaml" --max-steps 1 --mpi-solver mumps
   cp "$work/big-p$big_procs/stderr" "$OUT/big-newton.txt" 2>/dev/null
   pack
 fi
