@@ -9,7 +9,8 @@
 #      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped;
 #   4. (only when PARTS names it) the quarter's three steps at 4 threads, and the 278 k step on 16
 #      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES;
-#   5. (only when PARTS names it) the BLAS alone (bench_dense_blas: OpenBLAS's kernel for the processor,
+#   5. (only when PARTS names it) what memory handed back costs to touch again (bench_fresh_memory), the
+#      BLAS alone (bench_dense_blas: OpenBLAS's kernel for the processor,
 #      dgemm and dpotrf of 3000 x 3000 at 1, 2, 4, 8 and 16 threads), then the quarter's three steps by bench_newton_breakdown
 #      (where the time goes, per phase) at 2, 16 and 4 threads (the case's split Cholesky: as many domains
 #      as threads), at 16 threads factorised whole (split: false), and at 8 threads;
@@ -181,7 +182,8 @@ if part 4; then
   pack
 fi
 if part 5; then
-  say "== 5. the BLAS alone; the quarter's three steps, per phase: 2, 4, 16 threads; 16 factorised whole"
+  say "== 5. fresh memory; the BLAS alone; the quarter's three steps, per phase: 2, 4, 16 threads; 16 factorised whole"
+  timeout 60 bench_fresh_memory 2048 5 2>&1 | tee -a "$log"
   LD_LIBRARY_PATH="$libs" timeout 60 bench_dense_blas --size 3000 1 2 4 8 16 2>&1 | tee -a "$log"
   # the bench programs do not re-execute themselves as fibrane does: give them fibrane's OpenBLAS kernel
   core=$(LD_LIBRARY_PATH="$libs" bench_dense_blas --upgrade)

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <fstream>
 #include <sstream>
+#include <optional>
 #include <string>
 
 namespace fibrane {
@@ -74,15 +75,35 @@ std::uint64_t memory_limit() {
   return total == 0 ? group.limit : std::min(total, group.limit);
 }
 
-std::uint64_t available_memory() {
-  std::uint64_t available = meminfo("MemAvailable:");
-  if (available == 0) return 0;
+namespace {
+
+// MemAvailable, or the control group's limit less its usage where that is lower; nullopt when
+// /proc/meminfo cannot be read.
+std::optional<std::uint64_t> system_available_memory() {
+  const std::uint64_t available = meminfo("MemAvailable:");
+  if (available == 0) return std::nullopt;
   const GroupMemory group = group_memory();
-  if (group.limit > 0) available = std::min(available, group.limit > group.usage ? group.limit - group.usage : 0);
-  return available + mallinfo2().fordblks;
+  if (group.limit == 0) return available;
+  return std::min(available, group.limit > group.usage ? group.limit - group.usage : 0);
+}
+
+}  // namespace
+
+std::uint64_t available_memory() {
+  const auto available = system_available_memory();
+  return available ? *available + mallinfo2().fordblks : 0;
+}
+
+bool hand_back_needed(std::size_t about_to_free) {
+  const auto available = system_available_memory();
+  return !available || *available < mallinfo2().fordblks + about_to_free;
 }
 
 void release_pages(const void* data, std::size_t bytes) {
+  if (hand_back_needed(bytes)) hand_back_pages(data, bytes);
+}
+
+void hand_back_pages(const void* data, std::size_t bytes) {
   static const std::uintptr_t page = static_cast<std::uintptr_t>(sysconf(_SC_PAGESIZE));
   const std::uintptr_t begin = reinterpret_cast<std::uintptr_t>(data);
   const std::uintptr_t first = (begin + 4096 + page - 1) / page * page;

@@ -19,14 +19,27 @@ std::uint64_t memory_limit();
 // arrays, run/process_environment.cpp). 0 when /proc/meminfo cannot be read.
 std::uint64_t available_memory();
 
-// Hands the whole pages inside [data, data + bytes) back to the system (madvise MADV_DONTNEED), for a
-// large buffer that is about to be freed: its contents are lost (they read as zeros until written), and
-// its place stays the allocator's. fibrane's allocator keeps freed memory resident
-// (run/process_environment.cpp), so a buffer replaced by a larger one would otherwise stay in the resident
-// set beside its successor. The first and last 4 KiB are left alone (the allocator's own records).
+// Whether memory this process frees should go back to the system now instead of staying in its allocator
+// for reuse: true where the system (or the control group) has less memory available than the process would
+// then hold freed (mallinfo2's fordblks plus `about_to_free` bytes), or where /proc/meminfo cannot be read.
+// Memory handed back is not free to take again: the kernel zeroes every page at its next touch, and on a
+// virtual machine whose host reclaims the guest's free pages that costs seconds per GB
+// (bench_fresh_memory; docs/performance.md, "Memory handed back"). Kept, a freed buffer is reused by the
+// next one that fits its place; one that does not fit takes fresh memory beside it, which the rule leaves
+// room for: the system keeps at least as much available as the process holds freed.
+bool hand_back_needed(std::size_t about_to_free = 0);
+
+// Hands the whole pages inside [data, data + bytes) back to the system (madvise MADV_DONTNEED): their
+// contents are lost (they read as zeros until written), and the buffer stays allocated. The first and last
+// 4 KiB are left alone (the allocator's own records next to them).
+void hand_back_pages(const void* data, std::size_t bytes);
+
+// hand_back_pages where hand_back_needed(bytes) says so, for a large buffer that is about to be freed.
+// fibrane's allocator keeps freed memory resident (run/process_environment.cpp), so a buffer replaced by a
+// larger one would otherwise stay in the resident set beside its successor.
 void release_pages(const void* data, std::size_t bytes);
 
-// Empties v and frees its storage, its pages handed back first (release_pages).
+// Empties v and frees its storage, its pages handed back first where memory is short (release_pages).
 template <class T>
 void release_storage(std::vector<T>& v) {
   release_pages(v.data(), sizeof(T) * v.capacity());

@@ -20,7 +20,11 @@
 
 namespace fibrane::solve {
 
-void hand_back_freed_memory() { malloc_trim(0); }
+void hand_back_freed_memory() {
+  if (hand_back_needed()) malloc_trim(0);
+}
+
+void hand_back_all_freed_memory() { malloc_trim(0); }
 
 double factorization_memory_limit(long megabytes) {
   constexpr double kMegabyte = 1 << 20;

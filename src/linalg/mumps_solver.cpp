@@ -277,7 +277,7 @@ void MumpsSolver<Arithmetic>::run_factorization() {
   const int relaxation = icntl(14);
   // Out of core, the factor is read back through the system's page cache at every solve; memory that the
   // process has freed but keeps (the last iteration's work arrays) would take that cache's place.
-  if (out_of_core()) hand_back_freed_memory();
+  if (out_of_core()) hand_back_all_freed_memory();
   for (int attempt = 0; attempt < 4; ++attempt) {
     icntl(23) = memory_limit(relaxation);
     id_.job = 2;
@@ -287,7 +287,7 @@ void MumpsSolver<Arithmetic>::run_factorization() {
     icntl(14) *= 2;
   }
   icntl(14) = relaxation;
-  if (out_of_core()) hand_back_freed_memory();  // the factorisation's own work space beyond the stack
+  if (out_of_core()) hand_back_all_freed_memory();  // the factorisation's own work space beyond the stack
 }
 
 template <class Arithmetic>

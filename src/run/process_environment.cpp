@@ -54,8 +54,10 @@ void configure_process_environment(int argc, char** argv) {
   }
   // glibc returns large freed blocks to the system (munmap, heap trimming), so the factorisation's and the
   // assembly's work arrays, allocated anew at every Newton iteration, fault in fresh zeroed pages each
-  // time: with these thresholds the process keeps them, for half the page faults and a few per cent more
-  // peak memory. hugetlb=1 asks for transparent huge pages on malloc's memory (madvise; where the system
+  // time: with these thresholds the process keeps them (blocks up to 32 GiB come from the heap: the factor
+  // of the membrane at 1.1 M unknowns is 5 GB), for half the page faults and a few per cent more peak
+  // memory; fibrane hands freed memory back itself where memory is short (hand_back_needed in
+  // common/system_memory.hpp). hugetlb=1 asks for transparent huge pages on malloc's memory (madvise; where the system
   // allows them), so that what is still faulted in comes 2 MiB at a time. arena_max=1 keeps every thread
   // in the main arena: a thread's own arena grows in heaps of at most 64 MiB and serves every larger block
   // by mmap whatever the thresholds say, so the split factorisation's domains and the pattern merge, which
@@ -63,7 +65,7 @@ void configure_process_environment(int argc, char** argv) {
   // (docs/performance.md, "The paper-mesh bending run").
   if (!std::getenv("GLIBC_TUNABLES")) {
     setenv("GLIBC_TUNABLES",
-           "glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
+           "glibc.malloc.mmap_threshold=34359738368:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
            "glibc.malloc.arena_max=1",
            1);
     changed = true;

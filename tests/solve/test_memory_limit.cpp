@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -64,15 +65,15 @@ double resident_bytes() {
   return resident * static_cast<double>(sysconf(_SC_PAGESIZE));
 }
 
-// release_pages hands a buffer's whole pages back while the buffer stays allocated: the resident set
+// hand_back_pages hands a buffer's whole pages back while the buffer stays allocated: the resident set
 // shrinks by about its size (64 MB; at least 56 MB, since other allocations of the test process may
 // fault in pages meanwhile), the pages read as zeros afterwards, and the first and last 4 KiB (the
 // allocator's records next to them) keep their contents.
-TEST(MemoryLimit, ReleasedPagesLeaveTheResidentSet) {
+TEST(MemoryLimit, HandedBackPagesLeaveTheResidentSet) {
   const std::size_t bytes = std::size_t(64) << 20;
   std::vector<std::uint8_t> buffer(bytes, 7);
   const double before = resident_bytes();
-  release_pages(buffer.data(), bytes);
+  hand_back_pages(buffer.data(), bytes);
   const double after = resident_bytes();
   EXPECT_GT(before - after, 56.0 * (1 << 20));
   EXPECT_EQ(buffer.front(), 7);
@@ -81,6 +82,23 @@ TEST(MemoryLimit, ReleasedPagesLeaveTheResidentSet) {
   EXPECT_EQ(buffer[bytes / 2], 0);
   release_storage(buffer);
   EXPECT_EQ(buffer.capacity(), 0u);
+}
+
+// Freed memory goes back to the system only where the system has less available than the process would
+// hold freed: a test process holds a few MB freed, far below any machine's available memory, and no machine
+// has half the address space available. Where memory is plentiful release_pages keeps a 64 MB buffer's
+// pages (resident, contents unchanged) for reuse.
+TEST(MemoryLimit, FreedMemoryGoesBackOnlyWhereMemoryIsShort) {
+  if (available_memory() < (std::uint64_t(1) << 30)) GTEST_SKIP() << "less than 1 GiB available";
+  EXPECT_FALSE(hand_back_needed());
+  EXPECT_FALSE(hand_back_needed(std::size_t(64) << 20));
+  EXPECT_TRUE(hand_back_needed(std::numeric_limits<std::size_t>::max() / 2));
+  const std::size_t bytes = std::size_t(64) << 20;
+  std::vector<std::uint8_t> buffer(bytes, 7);
+  const double before = resident_bytes();
+  release_pages(buffer.data(), bytes);
+  EXPECT_GT(resident_bytes() - before, -8.0 * (1 << 20));
+  EXPECT_EQ(buffer[bytes / 2], 7);
 }
 
 TEST(MemoryLimit, MumpsStopsAtItsLimitAndSolvesWithinIt) {
