@@ -11,10 +11,10 @@ namespace fibrane::solve {
 
 // fibrane keeps freed memory in the process (run/process_environment.cpp: fewer page faults per
 // iteration); a new pattern's factor is larger and rarely fits the old one's place. So every direct
-// solver's analyze() frees the last factor and then hands the freed memory back to the system
-// (malloc_trim), before the new factor is made, instead of adding to the peak, where memory is short
-// (hand_back_needed in common/system_memory.hpp); where it is not, the freed memory is kept for the new
-// factor, which would otherwise fault its pages in anew.
+// solver's analyze() frees the last factor and, where memory is short (hand_back_needed in
+// common/system_memory.hpp), hands the freed memory back to the system (malloc_trim) before the new factor
+// is made, instead of adding to the peak; elsewhere the freed memory stays for the new factor, which would
+// otherwise fault its pages in anew.
 void hand_back_freed_memory();
 
 // malloc_trim whatever memory is left: for the out-of-core factorisations, whose factor files are read
