@@ -58,11 +58,11 @@ void configure_process_environment(int argc, char** argv) {
   // of the membrane at 1.1 M unknowns is 5 GB), for half the page faults and a few per cent more peak
   // memory; fibrane hands freed memory back itself where memory is short (hand_back_needed in
   // common/system_memory.hpp). hugetlb=1 asks for transparent huge pages on malloc's memory (madvise;
-  // where the system allows them), so that what is still faulted in comes 2 MiB at a time. arena_max=1 keeps every thread
-  // in the main arena: a thread's own arena grows in heaps of at most 64 MiB and serves every larger block
-  // by mmap whatever the thresholds say, so the split factorisation's domains and the pattern merge, which
-  // run on OpenMP's threads, would fault in their factors and arrays anew at every iteration
-  // (docs/performance.md, "The paper-mesh bending run").
+  // where the system allows them), so that what is still faulted in comes 2 MiB at a time. arena_max=1
+  // keeps every thread in the main arena: a thread's own arena grows in heaps of at most 64 MiB and serves
+  // every larger block by mmap whatever the thresholds say, so the split factorisation's domains and the
+  // pattern merge, which run on OpenMP's threads, would fault in their factors and arrays anew at every
+  // iteration (docs/performance.md, "The paper-mesh bending run").
   if (!std::getenv("GLIBC_TUNABLES")) {
     setenv("GLIBC_TUNABLES",
            "glibc.malloc.mmap_threshold=34359738368:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
