@@ -77,105 +77,151 @@ std::vector<Eigen::AlignedBox3d> element_boxes(const model::BeamBody& b) {
   return boxes;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  int threads = 0;
+// The command line: [fibers] [elements] [evaluations] [--threads N] [--membrane].
+struct Options {
+  int threads = 0, fibers = 100, elements = 50, evaluations = 5;
   bool membrane = false;
+};
+
+Options parse(int argc, char** argv) {
+  std::vector<std::string> args(argv + 1, argv + argc);
+  Options o;
   if (const auto it = std::find(args.begin(), args.end(), "--membrane"); it != args.end()) {
-    membrane = true;
+    o.membrane = true;
     args.erase(it);
   }
   for (std::size_t i = 0; i + 1 < args.size(); ++i)
     if (args[i] == "--threads") {
-      threads = std::atoi(args[i + 1].c_str());
+      o.threads = std::atoi(args[i + 1].c_str());
       args.erase(args.begin() + static_cast<long>(i), args.begin() + static_cast<long>(i) + 2);
       break;
     }
-  if (threads > 0) solve::set_thread_count(threads);
-  const int n_fibers = args.size() > 0 ? std::atoi(args[0].c_str()) : 100;
-  const int n_elements = args.size() > 1 ? std::atoi(args[1].c_str()) : 50;
-  const int n_evaluations = args.size() > 2 ? std::atoi(args[2].c_str()) : 5;
-  const int layers = 10, per_layer = (n_fibers + layers - 1) / layers;
-  const double search = 2 * kRadius + kCutoff;
+  if (args.size() > 0) o.fibers = std::atoi(args[0].c_str());
+  if (args.size() > 1) o.elements = std::atoi(args[1].c_str());
+  if (args.size() > 2) o.evaluations = std::atoi(args[2].c_str());
+  return o;
+}
 
-  model::Model beams_only, m;
-  std::vector<model::BeamBody*> fibers;
-  for (int i = 0; i < n_fibers; ++i) {
-    beams_only.add_beam(fiber(i, layers, per_layer, n_elements));
-    fibers.push_back(&m.add_beam(fiber(i, layers, per_layer, n_elements)));
-  }
-
-  // The membrane under the mat and one SBS coupling per fiber, in both models.
+// The membrane under the mat and one SBS coupling per fiber, in both models; the couplings of `m`.
+std::vector<model::Coupling*> add_membrane(model::Model& beams_only, model::Model& m,
+                                           const std::vector<model::BeamBody*>& fibers) {
+  const double h = 0.1, z = -(kRadius + 0.05 + 0.5 * h);
+  auto sheet = [&] {
+    spline::NurbsSurface s = spline::make_rectangle({-8, -8, z}, {16, 0, 0}, {0, 16, 0});
+    s.refine(0, 2, 1, 32);
+    s.refine(1, 2, 1, 32);
+    return model::ShellBody("membrane", s, shell::ShellSection::svk(1e3, 0.3, h));
+  };
+  auto sbs = std::make_shared<laws::LennardJonesDiskPlate>(1.0, 0.01, kRadius, h);
+  const model::ShellBody& alone = beams_only.add_shell(sheet());
+  const model::ShellBody& with = m.add_shell(sheet());
   std::vector<model::Coupling*> couplings;
-  if (membrane) {
-    const double h = 0.1, z = -(kRadius + 0.05 + 0.5 * h);
-    auto sheet = [&] {
-      spline::NurbsSurface s = spline::make_rectangle({-8, -8, z}, {16, 0, 0}, {0, 16, 0});
-      s.refine(0, 2, 1, 32);
-      s.refine(1, 2, 1, 32);
-      return model::ShellBody("membrane", s, shell::ShellSection::svk(1e3, 0.3, h));
-    };
-    auto sbs = std::make_shared<laws::LennardJonesDiskPlate>(1.0, 0.01, kRadius, h);
-    const model::ShellBody& alone = beams_only.add_shell(sheet());
-    const model::ShellBody& with = m.add_shell(sheet());
-    for (int i = 0; i < n_fibers; ++i) {
-      beams_only.add_contribution(std::make_unique<model::Coupling>(
-          fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact,
-          beams_only.beams[static_cast<std::size_t>(i)], alone));
-      couplings.push_back(&dynamic_cast<model::Coupling&>(m.add_contribution(std::make_unique<model::Coupling>(
-          fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact, *fibers[i],
-          with))));
-    }
+  for (std::size_t i = 0; i < fibers.size(); ++i) {
+    beams_only.add_contribution(std::make_unique<model::Coupling>(
+        fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact,
+        beams_only.beams[i], alone));
+    couplings.push_back(&dynamic_cast<model::Coupling&>(m.add_contribution(std::make_unique<model::Coupling>(
+        fmt::format("sbs{}", i), sbs, interaction::Formulation::RF2, interaction::FfTangent::exact, *fibers[i],
+        with))));
   }
+  return couplings;
+}
 
-  // Global search over all elements of all fibers.
+// The global search over all elements of all fibers, timed, and the pairs of fibers it finds.
+struct ElementSearch {
+  std::size_t boxes = 0;
+  double build = 0, query = 0;  // seconds: the tree's construction, a refit with the pair query
+  long pairs = 0;               // element pairs of different fibers within reach
+  std::vector<std::pair<int, int>> fiber_pairs;
+};
+
+ElementSearch search_elements(const std::vector<model::BeamBody*>& fibers, double reach) {
   std::vector<Eigen::AlignedBox3d> boxes;
   std::vector<int> owner;
-  for (int f = 0; f < n_fibers; ++f)
+  for (std::size_t f = 0; f < fibers.size(); ++f)
     for (const auto& box : element_boxes(*fibers[f])) {
       boxes.push_back(box);
-      owner.push_back(f);
+      owner.push_back(static_cast<int>(f));
     }
+  ElementSearch result;
+  result.boxes = boxes.size();
   auto t0 = Clock::now();
   interaction::BoxTree tree(boxes);
-  const double build = seconds_since(t0);
-  long pairs = 0;
+  result.build = seconds_since(t0);
   const int repeat = 20;
   t0 = Clock::now();
   for (int r = 0; r < repeat; ++r) {
     tree.refit(boxes);
-    pairs = 0;
-    tree.near_pairs(tree, search, [&](int i, int j) { pairs += owner[i] != owner[j]; });
+    result.pairs = 0;
+    tree.near_pairs(tree, reach, [&](int i, int j) { result.pairs += owner[i] != owner[j]; });
   }
-  const double query = seconds_since(t0) / repeat;
+  result.query = seconds_since(t0) / repeat;
+  std::set<std::pair<int, int>> fiber_pair_set;
+  tree.near_pairs(tree, reach, [&](int i, int j) {
+    if (owner[i] != owner[j]) fiber_pair_set.emplace(std::min(owner[i], owner[j]), std::max(owner[i], owner[j]));
+  });
+  result.fiber_pairs.assign(fiber_pair_set.begin(), fiber_pair_set.end());
+  return result;
+}
+
+// Seconds per SBIP point (energy, gradient and Hessian in its 15 local variables) near contact; `checksum`
+// keeps the calls from being optimised away.
+double time_sbip_point(const laws::SectionCylinderLaw& law, double& checksum) {
+  interaction::SectionBeamPoint point;
+  point.x = {0.01, 0.02, 2 * kRadius + 0.02};
+  point.x_xi = {1, 0.1, 0.02};
+  point.r[1] = {0.1, 1, 0};
+  point.r[2] = {0.01, 0.02, 0.03};
+  checksum = 0;
+  const int calls = 20000;
+  const auto t0 = Clock::now();
+  for (int i = 0; i < calls; ++i) {
+    point.x[0] = 0.01 + 1e-9 * i;
+    checksum += interaction::section_beam(law, point).energy;
+  }
+  return seconds_since(t0) / calls;
+}
+
+// Seconds per Model::evaluate with tangent, after a first evaluation that makes the patterns.
+double time_evaluations(model::Model& model, int evaluations) {
+  const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size());
+  model.evaluate(q, 1.0, true);
+  const auto start = Clock::now();
+  for (int e = 0; e < evaluations; ++e) model.evaluate(q, 1.0, true);
+  return seconds_since(start) / evaluations;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  if (o.threads > 0) solve::set_thread_count(o.threads);
+  const int layers = 10, per_layer = (o.fibers + layers - 1) / layers;
+  const double reach = 2 * kRadius + kCutoff;
+
+  model::Model beams_only, m;
+  std::vector<model::BeamBody*> fibers;
+  for (int i = 0; i < o.fibers; ++i) {
+    beams_only.add_beam(fiber(i, layers, per_layer, o.elements));
+    fibers.push_back(&m.add_beam(fiber(i, layers, per_layer, o.elements)));
+  }
+  const std::vector<model::Coupling*> couplings = o.membrane ? add_membrane(beams_only, m, fibers)
+                                                             : std::vector<model::Coupling*>{};
+  const ElementSearch search = search_elements(fibers, reach);
 
   // One interaction per pair of fibers with an element pair within the search distance.
   auto law = std::make_shared<laws::SectionCylinderLaw>(
       laws::SectionCylinderLaw::lennard_jones(1.0, 0.01, kRadius, kRadius, 1.0, 0.002, kCutoff));
   std::vector<model::BeamBeamInteraction*> interactions;
-  std::set<std::pair<int, int>> fiber_pair_set;
-  tree.near_pairs(tree, search, [&](int i, int j) {
-    if (owner[i] != owner[j]) fiber_pair_set.emplace(std::min(owner[i], owner[j]), std::max(owner[i], owner[j]));
-  });
-  const std::vector<std::pair<int, int>> fiber_pairs(fiber_pair_set.begin(), fiber_pair_set.end());
-  for (const auto& [i, j] : fiber_pairs)
+  for (const auto& [i, j] : search.fiber_pairs)
     interactions.push_back(&dynamic_cast<model::BeamBeamInteraction&>(m.add_contribution(
         std::make_unique<model::BeamBeamInteraction>(fmt::format("f{}-f{}", i, j), law, *fibers[i], *fibers[j]))));
   beams_only.finalize();
   m.finalize();
 
-  auto time_evaluations = [&](model::Model& model) {
-    const Eigen::VectorXd q = Eigen::VectorXd::Zero(model.size());
-    model.evaluate(q, 1.0, true);  // first evaluation: patterns
-    const auto start = Clock::now();
-    for (int e = 0; e < n_evaluations; ++e) model.evaluate(q, 1.0, true);
-    return seconds_since(start) / n_evaluations;
-  };
-  const double t_beams = time_evaluations(beams_only);
+  const double t_beams = time_evaluations(beams_only, o.evaluations);
   m.reset_times();
-  const double t_all = time_evaluations(m);
+  const double t_all = time_evaluations(m, o.evaluations);
   const model::PhaseTimes times = m.times();
   long points = 0, element_pairs = 0, pattern = 0;
   double gap = 1e300;
@@ -185,32 +231,20 @@ int main(int argc, char** argv) {
     pattern += bb->pattern_pairs();
     gap = std::min(gap, bb->minimum_gap());
   }
-  // One SBIP point (energy, gradient and Hessian in its 15 local variables) near contact.
-  interaction::SectionBeamPoint point;
-  point.x = {0.01, 0.02, 2 * kRadius + 0.02};
-  point.x_xi = {1, 0.1, 0.02};
-  point.r[1] = {0.1, 1, 0};
-  point.r[2] = {0.01, 0.02, 0.03};
   double checksum = 0;
-  const int kernel_calls = 20000;
-  t0 = Clock::now();
-  for (int i = 0; i < kernel_calls; ++i) {
-    point.x[0] = 0.01 + 1e-9 * i;
-    checksum += interaction::section_beam(*law, point).energy;
-  }
-  const double kernel = seconds_since(t0) / kernel_calls;
-  fmt::print("fibers {} x {} elements (cubic), {} DOFs, threads {}\n", n_fibers, n_elements, m.size(),
-             threads > 0 ? threads : omp_get_max_threads());
+  const double kernel = time_sbip_point(*law, checksum);
+  fmt::print("fibers {} x {} elements (cubic), {} DOFs, threads {}\n", o.fibers, o.elements, m.size(),
+             o.threads > 0 ? o.threads : omp_get_max_threads());
   fmt::print("global search: {} element boxes, tree built in {:.3f} ms; refit + pair query {:.3f} ms; "
              "element pairs of different fibers within {:.2f}: {}\n",
-             boxes.size(), 1e3 * build, 1e3 * query, search, pairs);
+             search.boxes, 1e3 * search.build, 1e3 * search.query, reach, search.pairs);
   fmt::print("registered fiber pairs: {}; element pairs in the patterns: {}; interacting element pairs: {}; "
              "interacting quadrature points: {}; minimum gap {:.4f}\n",
-             fiber_pairs.size(), pattern, element_pairs, points, gap);
+             search.fiber_pairs.size(), pattern, element_pairs, points, gap);
   fmt::print("Model::evaluate with tangent: beams alone {:.1f} ms, with the interactions {:.1f} ms "
              "(interactions {:.1f} ms per evaluation)\n",
              1e3 * t_beams, 1e3 * t_all, 1e3 * (t_all - t_beams));
-  if (membrane) {
+  if (o.membrane) {
     long sbs_points = 0;
     for (auto* c : couplings) sbs_points += static_cast<long>(c->points().size());
     fmt::print("membrane: {} SBS couplings, {} beam quadrature points projected; both models include them\n",

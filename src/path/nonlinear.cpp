@@ -66,130 +66,165 @@ bool NonlinearSystem::tangent_finite() const {
 
 namespace {
 
-NewtonReport newton_iterate(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
-                            LinearSolver& solver) {
-  NewtonReport rep;
-  double scale = 0.0, previous_norm = 0.0, floor_estimate = 0.0;
-  GiveUpRules give_up(opt);
-  bool small_update = false;
-  Eigen::VectorXd last_update;
-  double applied = 0.0;  // fraction of last_update in q
-  // Factorisation reuse (opt.reuse_below): `reuse` when the last update contracted |r| enough that this
-  // iteration tries the factorisation it was solved with.
-  bool reuse = false, factor_valid = false;
-  // No tangent is assembled for an iterate the last update predicts converged (quadratic rate: |r| times
-  // the last contraction squared below the tolerance): plain Newton would assemble one at its last iterate
-  // and not use it. If the prediction fails, the iterate is evaluated once more, with its tangent. (The
-  // bending example's steps mostly end inside reused factorisations, residual-only already: its count of
-  // tangents did not change.)
-  bool expect_converged = false;
-  solver.begin_step();
-  for (int it = 0;; ++it) {
-    bool with_tangent = !reuse && !expect_converged;
-    sys.evaluate(q, t, with_tangent);
-    double norm = residual_norm(sys);
-    // Backtracking on |r| (steps.line_search, off by default): a full update that raised the residual is
-    // halved (not at the round-off floor, where |r| wanders). It turns overshooting updates (Newton on
-    // atan diverges) into converging ones; it did not help where the residual is discontinuous (the
-    // bending example's closest-point branch switch at the fiber's tip).
-    for (int halvings = 0; it > 0 && !small_update && halvings < opt.line_search && !(norm <= previous_norm);
+// One Newton solve at load t (newton_solve's work), its state between iterations kept as members.
+class NewtonIteration {
+ public:
+  NewtonIteration(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt, LinearSolver& solver)
+      : sys_(sys), q_(q), t_(t), opt_(opt), solver_(solver), give_up_(opt) {}
+
+  NewtonReport run() {
+    solver_.begin_step();
+    for (int it = 0;; ++it) {
+      bool with_tangent = !reuse_ && !expect_converged_;
+      const double norm = evaluate(it, with_tangent);
+      rep_.residual_norm = norm;
+      rep_.history.push_back(norm);
+      if (opt_.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t_, it, norm);
+      if (!std::isfinite(norm)) {
+        const std::string why = sys_.invalid_state();
+        rep_.failure = (why.empty() ? "non-finite residual" : "invalid state (" + why + ")") + " at iteration " +
+                       std::to_string(it);
+        return rep_;
+      }
+      if (it == 0) scale_ = std::max(norm, sys_.residual_scale());
+      if (converged(it, norm)) return rep_;
+      previous_norm_ = norm;
+      rep_.failure = give_up_.check(rep_.history, scale_);
+      if (!rep_.failure.empty()) return rep_;
+      // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
+      // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
+      // tangent (one more evaluation, now with the tangent).
+      const double contraction = it > 0 ? norm / rep_.history[it - 1] : 1.0;
+      if (reuse_ && (!factor_valid_ || !(contraction <= 0.25))) reuse_ = false;
+      const bool fresh = !reuse_;
+      if (fresh && !with_tangent) {
+        sys_.evaluate(q_, t_, true);
+        with_tangent = true;
+      }
+      if (fresh && !factorise(it)) return rep_;
+      if (!update(it)) return rep_;
+      // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
+      // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
+      // factorisation is tried at once.
+      if (fresh) reuse_ = opt_.reuse_below > 0 && (it > 0 ? contraction <= opt_.reuse_below : opt_.reuse_first);
+      expect_converged_ = it > 0 && fresh && norm * contraction * contraction <= tolerance();
+    }
+  }
+
+ private:
+  double tolerance() const { return std::max(opt_.tol_relative * scale_, opt_.tol_absolute); }
+
+  // Evaluates the iterate and returns |r|. Backtracking on |r| (steps.line_search, off by default): a full
+  // update that raised the residual is halved (not at the round-off floor, where |r| wanders). It turns
+  // overshooting updates (Newton on atan diverges) into converging ones; it did not help where the residual
+  // is discontinuous (the bending example's closest-point branch switch at the fiber's tip).
+  double evaluate(int it, bool with_tangent) {
+    sys_.evaluate(q_, t_, with_tangent);
+    double norm = residual_norm(sys_);
+    for (int halvings = 0; it > 0 && !small_update_ && halvings < opt_.line_search && !(norm <= previous_norm_);
          ++halvings) {
-      applied *= 0.5;
-      q -= applied * last_update;
-      ++rep.backtracks;
-      sys.evaluate(q, t, with_tangent);
-      const double reduced = residual_norm(sys);
-      if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e: update x %g, |r|=%.6e\n", t, it, norm, applied, reduced);
+      applied_ *= 0.5;
+      q_ -= applied_ * last_update_;
+      ++rep_.backtracks;
+      sys_.evaluate(q_, t_, with_tangent);
+      const double reduced = residual_norm(sys_);
+      if (opt_.verbose)
+        std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e: update x %g, |r|=%.6e\n", t_, it, norm, applied_, reduced);
       norm = reduced;
     }
-    const Eigen::VectorXd& r = sys.residual();
-    rep.residual_norm = norm;
-    rep.history.push_back(norm);
-    if (opt.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t, it, norm);
-    if (!std::isfinite(norm)) {
-      const std::string why = sys.invalid_state();
-      rep.failure = (why.empty() ? "non-finite residual" : "invalid state (" + why + ")") + " at iteration " +
-                    std::to_string(it);
-      return rep;
-    }
-    if (it == 0) scale = std::max(norm, sys.residual_scale());
+    return norm;
+  }
+
+  // Whether the iterate has converged (recorded in the report).
+  bool converged(int it, double norm) {
     // Round-off floor: after an update that barely moved q, a residual that was real would have been
     // removed by it; one that stayed within a factor 2 of the last is noise (summation round-off of large
     // internal forces). The residual there wanders up and down: on the bending example at 300 x 75 x 75
     // (floor 5.5e-6 > tolerance) requiring a fall cost 3-4 extra iterations per step.
     // Only where the residual is already small (sqrt(tol_relative) of the scale, 3e-5 at the default): a
     // tiny update from a singular tangent next to a large residual is no floor.
-    const bool at_floor = small_update && norm <= 2.0 * previous_norm && norm <= std::sqrt(opt.tol_relative) * scale;
+    const bool at_floor = small_update_ && norm <= 2.0 * previous_norm_ && norm <= std::sqrt(opt_.tol_relative) * scale_;
     // The floor estimated from the last tangent and the configuration's magnitudes: no iteration can get
     // below it, so a tolerance under it would be chased through cut-backs until the step size underflows.
-    const bool at_estimated_floor = it > 0 && floor_estimate > 0 && norm <= kRoundoffFloorFactor * floor_estimate;
-    if (norm <= std::max(opt.tol_relative * scale, opt.tol_absolute) || at_floor || at_estimated_floor) {
-      rep.converged = true;
-      rep.at_roundoff_floor = at_estimated_floor && norm > std::max(opt.tol_relative * scale, opt.tol_absolute);
-      return rep;
+    const bool at_estimated_floor = it > 0 && floor_estimate_ > 0 && norm <= kRoundoffFloorFactor * floor_estimate_;
+    if (!(norm <= tolerance() || at_floor || at_estimated_floor)) return false;
+    rep_.converged = true;
+    rep_.at_roundoff_floor = at_estimated_floor && norm > tolerance();
+    return true;
+  }
+
+  // Analyses (at a new pattern) and factorises the tangent just evaluated; false, with the report's
+  // failure, where that fails.
+  bool factorise(int it) {
+    const Eigen::SparseMatrix<double>& k = sys_.tangent();
+    // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's
+    // derivative is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
+    if (!sys_.tangent_finite()) {
+      rep_.failure = "non-finite tangent at iteration " + std::to_string(it);
+      return false;
     }
-    previous_norm = norm;
-    rep.failure = give_up.check(rep.history, scale);
-    if (!rep.failure.empty()) return rep;
-    // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
-    // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
-    // tangent (one more evaluation, now with the tangent).
-    const double contraction = it > 0 ? norm / rep.history[it - 1] : 1.0;
-    if (reuse && (!factor_valid || !(contraction <= 0.25))) reuse = false;
-    const bool fresh = !reuse;
-    if (fresh && !with_tangent) {
-      sys.evaluate(q, t, true);
-      with_tangent = true;
+    analyze_if_needed(solver_, sys_, k);
+    factor_valid_ = false;
+    if (!solver_.factorize(k)) {
+      const std::string detail = solver_.failure_detail();
+      rep_.failure = "factorization failed (" + solver_.name() + (detail.empty() ? "" : ": " + detail) +
+                     ") at iteration " + std::to_string(it);
+      return false;
     }
-    if (fresh) {
-      const Eigen::SparseMatrix<double>& k = sys.tangent();
-      // A non-finite entry (e.g. a closest point at a centre of curvature, where the projection's
-      // derivative is unbounded) would make the factorisation fail only after a full LL^T and LU attempt.
-      if (!sys.tangent_finite()) {
-        rep.failure = "non-finite tangent at iteration " + std::to_string(it);
-        return rep;
-      }
-      analyze_if_needed(solver, sys, k);
-      factor_valid = false;
-      if (!solver.factorize(k)) {
-        const std::string detail = solver.failure_detail();
-        rep.failure = "factorization failed (" + solver.name() + (detail.empty() ? "" : ": " + detail) +
-                      ") at iteration " + std::to_string(it);
-        return rep;
-      }
-      factor_valid = true;
-      floor_estimate = sys.roundoff_floor();
-      ++rep.factorizations;
-      rep.negative_eigenvalues = solver.negative_eigenvalues();
-      if (opt.verbose) {
-        const std::string inertia = rep.negative_eigenvalues >= 0
-                                        ? ", " + std::to_string(rep.negative_eigenvalues) + " negative eigenvalues"
-                                        : "";
-        std::fprintf(stderr, "  newton t=%.6g it=%d new tangent for %s%s; round-off floor ~ %.3e\n", t, it,
-                     solver.name().c_str(), inertia.c_str(), floor_estimate);
-      }
+    factor_valid_ = true;
+    floor_estimate_ = sys_.roundoff_floor();
+    ++rep_.factorizations;
+    rep_.negative_eigenvalues = solver_.negative_eigenvalues();
+    if (opt_.verbose) {
+      const std::string inertia = rep_.negative_eigenvalues >= 0
+                                      ? ", " + std::to_string(rep_.negative_eigenvalues) + " negative eigenvalues"
+                                      : "";
+      std::fprintf(stderr, "  newton t=%.6g it=%d new tangent for %s%s; round-off floor ~ %.3e\n", t_, it,
+                   solver_.name().c_str(), inertia.c_str(), floor_estimate_);
     }
-    const Eigen::VectorXd dq = solver.solve_to(-r, forcing_term(opt, rep.history, scale));
+    return true;
+  }
+
+  // Solves for the update with the current factorisation and applies it; false, with the report's
+  // failure, for a non-finite update.
+  bool update(int it) {
+    const Eigen::VectorXd dq = solver_.solve_to(-sys_.residual(), forcing_term(opt_, rep_.history, scale_));
     if (!dq.allFinite()) {
       // A solve that factorised inside (a Krylov solver renewing its preconditioner) may have failed there.
-      const std::string detail = solver.failure_detail();
-      rep.failure = "non-finite Newton update at iteration " + std::to_string(it) +
-                    (detail.empty() ? "" : " (" + solver.name() + ": " + detail + ")");
-      return rep;
+      const std::string detail = solver_.failure_detail();
+      rep_.failure = "non-finite Newton update at iteration " + std::to_string(it) +
+                     (detail.empty() ? "" : " (" + solver_.name() + ": " + detail + ")");
+      return false;
     }
-    q += dq;
-    last_update = dq;
-    applied = 1.0;
-    small_update = opt.tol_increment > 0 && dq.norm() <= opt.tol_increment * q.norm();
-    rep.iterations = it + 1;
-    // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
-    // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
-    // factorisation is tried at once.
-    if (fresh) reuse = opt.reuse_below > 0 && (it > 0 ? contraction <= opt.reuse_below : opt.reuse_first);
-    const double tolerance = std::max(opt.tol_relative * scale, opt.tol_absolute);
-    expect_converged = it > 0 && fresh && norm * contraction * contraction <= tolerance;
+    q_ += dq;
+    last_update_ = dq;
+    applied_ = 1.0;
+    small_update_ = opt_.tol_increment > 0 && dq.norm() <= opt_.tol_increment * q_.norm();
+    rep_.iterations = it + 1;
+    return true;
   }
-}
+
+  NonlinearSystem& sys_;
+  Eigen::VectorXd& q_;
+  const double t_;
+  const NewtonOptions& opt_;
+  LinearSolver& solver_;
+  NewtonReport rep_;
+  GiveUpRules give_up_;
+  double scale_ = 0.0, previous_norm_ = 0.0, floor_estimate_ = 0.0;
+  bool small_update_ = false;
+  Eigen::VectorXd last_update_;
+  double applied_ = 0.0;  // fraction of last_update_ in q
+  // Factorisation reuse (opt.reuse_below): `reuse_` when the last update contracted |r| enough that this
+  // iteration tries the factorisation it was solved with.
+  bool reuse_ = false, factor_valid_ = false;
+  // No tangent is assembled for an iterate the last update predicts converged (quadratic rate: |r| times
+  // the last contraction squared below the tolerance): plain Newton would assemble one at its last iterate
+  // and not use it. If the prediction fails, the iterate is evaluated once more, with its tangent. (The
+  // bending example's steps mostly end inside reused factorisations, residual-only already: its count of
+  // tangents did not change.)
+  bool expect_converged_ = false;
+};
 
 }  // namespace
 
@@ -202,7 +237,7 @@ bool analyze_if_needed(LinearSolver& solver, const NonlinearSystem& sys, const E
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
                           LinearSolver& solver) {
   if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
-  NewtonReport rep = newton_iterate(sys, q, t, opt, solver);
+  NewtonReport rep = NewtonIteration(sys, q, t, opt, solver).run();
   // A failed solve's factor is of no use (every caller factorises before it solves) and would be held
   // through the cut-back's first evaluation and factorisation, beside the memory they take.
   if (!rep.converged) solver.release_factor();
