@@ -5,9 +5,11 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
+#include <vector>
 
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
@@ -145,24 +147,40 @@ std::string zlib_blocks(const void* data, std::size_t size, std::size_t block_si
   if (block_size == 0) throw std::invalid_argument("zlib_blocks: block size must be > 0");
   const auto* bytes = static_cast<const unsigned char*>(data);
   const std::uint64_t blocks = (size + block_size - 1) / block_size;
+  // The blocks are compressed independently, so side by side on OpenMP's threads; the stream is the same
+  // bytes on any number of threads.
+  std::vector<std::string> parts(blocks);
+  std::vector<int> status(blocks, Z_OK);
+  const auto count = static_cast<std::int64_t>(blocks);
+#pragma omp parallel
+  {
+    std::string buffer(compressBound(static_cast<uLong>(std::min(block_size, size))), '\0');
+#pragma omp for schedule(static)
+    for (std::int64_t b = 0; b < count; ++b) {
+      const std::size_t begin = static_cast<std::size_t>(b) * block_size, length = std::min(block_size, size - begin);
+      uLongf compressed = static_cast<uLongf>(buffer.size());
+      // zlib's default level: on fibrane's Float64 output about 5 % smaller than Z_BEST_SPEED, at about
+      // 1.3 times its time.
+      status[static_cast<std::size_t>(b)] = compress2(reinterpret_cast<Bytef*>(buffer.data()), &compressed, bytes + begin,
+                                                      static_cast<uLong>(length), Z_DEFAULT_COMPRESSION);
+      parts[static_cast<std::size_t>(b)].assign(buffer.data(), compressed);
+    }
+  }
   std::vector<std::uint64_t> header{blocks, block_size, size % block_size};
-  std::string payload;
+  std::size_t total = 0;
   for (std::uint64_t b = 0; b < blocks; ++b) {
-    const std::size_t begin = b * block_size, length = std::min(block_size, size - begin);
-    uLongf compressed = compressBound(static_cast<uLong>(length));
-    const std::size_t at = payload.size();
-    payload.resize(at + compressed);
-    // zlib's default level: on fibrane's Float64 output about 5 % smaller than Z_BEST_SPEED, at about
-    // 1.3 times its time.
-    const int status = compress2(reinterpret_cast<Bytef*>(payload.data() + at), &compressed, bytes + begin,
-                                 static_cast<uLong>(length), Z_DEFAULT_COMPRESSION);
-    if (status != Z_OK) throw std::runtime_error(fmt::format("zlib compress2 failed with status {}", status));
-    payload.resize(at + compressed);
-    header.push_back(compressed);
+    if (status[b] != Z_OK) throw std::runtime_error(fmt::format("zlib compress2 failed with status {}", status[b]));
+    header.push_back(parts[b].size());
+    total += parts[b].size();
   }
   std::string out(header.size() * sizeof(std::uint64_t), '\0');
   std::memcpy(out.data(), header.data(), out.size());
-  return out + payload;
+  out.reserve(out.size() + total);
+  for (std::string& part : parts) {
+    out += part;
+    std::string().swap(part);
+  }
+  return out;
 }
 
 std::string base64_encode(const void* data, std::size_t size) {
@@ -248,7 +266,10 @@ std::string vtu_document(const VtuMesh& mesh, VtuEncoding encoding) {
       xml += fmt::format("      <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\" NumberOfTuples=\"{}\" "
                          "format=\"ascii\">\n       ",
                          xml_escape(field.name), field.components, field.values.size() / field.components);
-      for (double v : field.values) xml += " " + format_double(v);
+      for (double v : field.values) {
+        xml += ' ';
+        xml += format_double(v);
+      }
       xml += "\n      </DataArray>\n";
     }
     xml += "    </FieldData>\n";

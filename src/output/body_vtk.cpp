@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "spline/quadrature.hpp"
 
@@ -19,6 +20,13 @@ namespace {
 
 void push3(std::vector<double>& v, const Eigen::Vector3d& x) { v.insert(v.end(), {x[0], x[1], x[2]}); }
 
+// Point p's three components of a field.
+void set3(std::vector<double>& v, std::size_t p, const Eigen::Vector3d& x) {
+  v[3 * p] = x[0];
+  v[3 * p + 1] = x[1];
+  v[3 * p + 2] = x[2];
+}
+
 }  // namespace
 
 io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
@@ -28,25 +36,36 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
   io::VtuMesh::Field disp{"displacement", 3, {}}, nf{"N_local", 3, {}}, mf{"M_local", 3, {}},
       nc{"N_contravariant", 3, {}}, mc{"M_contravariant", 3, {}};
   const auto& u = m.displacement();
-  for (std::size_t e = 0; e < s.elements.size(); ++e) {
-    const auto& el = s.elements[e];
-    const auto& cps = s.element_control_points[e];
+  const int n = samples + 1;
+  const auto elements = static_cast<std::int64_t>(s.elements.size());
+  const auto points = static_cast<std::size_t>(elements) * static_cast<std::size_t>(n * n);
+  mesh.points.resize(points);
+  for (auto* f : {&disp, &nf, &mf, &nc, &mc}) f->values.resize(3 * points);
+  // Each element's (samples + 1)^2 points in their own rows, the elements side by side on the run's
+  // threads.
+#pragma omp parallel for schedule(dynamic, 16)
+  for (std::int64_t e = 0; e < elements; ++e) {
+    const auto& el = s.elements[static_cast<std::size_t>(e)];
+    const auto& cps = s.element_control_points[static_cast<std::size_t>(e)];
     const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, m.dofs);
-    const int base = static_cast<int>(mesh.points.size());
     for (int j = 0; j <= samples; ++j)
       for (int i = 0; i <= samples; ++i) {
+        const std::size_t p = static_cast<std::size_t>(e) * static_cast<std::size_t>(n * n) +
+                              static_cast<std::size_t>(j * n + i);
         const double pu = el.u0 + (el.u1 - el.u0) * i / samples, pv = el.v0 + (el.v1 - el.v0) * j / samples;
         const auto b = s.surface.basis_in(el.span_u, el.span_v, pu, pv);
         const Eigen::Vector3d xr = X * b.R.row(0).transpose(), xc = x * b.R.row(0).transpose();
-        mesh.points.push_back(xc);
-        push3(disp.values, xc - xr);
+        mesh.points[p] = xc;
         const auto f = shell::section_forces(s.section, b.R, X, x);
-        push3(nf.values, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
-        push3(mf.values, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
-        push3(nc.values, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
-        push3(mc.values, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
+        set3(disp.values, p, xc - xr);
+        set3(nf.values, p, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
+        set3(mf.values, p, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
+        set3(nc.values, p, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
+        set3(mc.values, p, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
       }
-    const int n = samples + 1;
+  }
+  for (std::int64_t e = 0; e < elements; ++e) {
+    const int base = static_cast<int>(e) * n * n;
     for (int j = 0; j < samples; ++j)
       for (int i = 0; i < samples; ++i) {
         const int a = base + j * n + i;

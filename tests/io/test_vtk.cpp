@@ -3,6 +3,7 @@
 // round-trip), which we compare bitwise with what was written. The .pvd is checked with Python's XML
 // parser.
 #include <gtest/gtest.h>
+#include <omp.h>
 #include <zlib.h>
 
 #include <cmath>
@@ -216,6 +217,23 @@ TEST(Vtu, ZlibBlocksHaveVtksHeaderAndInflateBack) {
     EXPECT_EQ(at, stream.size());
     EXPECT_EQ(inflated, raw) << size;
   }
+}
+
+// The blocks are compressed side by side: the stream must be the same bytes on any number of threads
+// (the files of a run do not depend on --threads). 40 blocks, so that every thread gets several.
+TEST(Vtu, ZlibBlocksAreTheSameOnAnyNumberOfThreads) {
+  std::string raw(40 * 32768 + 123, '\0');
+  std::mt19937 random(7);
+  for (std::size_t i = 0; i < raw.size(); ++i) raw[i] = static_cast<char>(i % 97 < 60 ? random() % 4 : i % 13);
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  const std::string one = zlib_blocks(raw.data(), raw.size(), 32768);
+  for (const int n : {2, 3, 8}) {
+    omp_set_num_threads(n);
+    EXPECT_EQ(zlib_blocks(raw.data(), raw.size(), 32768), one) << n << " threads";
+  }
+  omp_set_num_threads(threads);
+  EXPECT_LT(one.size(), raw.size() / 2);  // the data compress: the blocks hold zlib's output, not copies
 }
 
 TEST(Vtu, BezierDegreesAndWeightsAreChecked) {
