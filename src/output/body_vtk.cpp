@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
 
 namespace fibrane::output {
@@ -42,27 +43,39 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
   mesh.points.resize(points);
   for (auto* f : {&disp, &nf, &mf, &nc, &mc}) f->values.resize(3 * points);
   // Each element's (samples + 1)^2 points in their own rows, the elements side by side on the run's
-  // threads.
-#pragma omp parallel for schedule(dynamic, 16)
-  for (std::int64_t e = 0; e < elements; ++e) {
-    const auto& el = s.elements[static_cast<std::size_t>(e)];
-    const auto& cps = s.element_control_points[static_cast<std::size_t>(e)];
-    const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, m.dofs);
-    for (int j = 0; j <= samples; ++j)
-      for (int i = 0; i <= samples; ++i) {
-        const std::size_t p = static_cast<std::size_t>(e) * static_cast<std::size_t>(n * n) +
-                              static_cast<std::size_t>(j * n + i);
-        const double pu = el.u0 + (el.u1 - el.u0) * i / samples, pv = el.v0 + (el.v1 - el.v0) * j / samples;
-        const auto b = s.surface.basis_in(el.span_u, el.span_v, pu, pv);
-        const Eigen::Vector3d xr = X * b.R.row(0).transpose(), xc = x * b.R.row(0).transpose();
-        mesh.points[p] = xc;
-        const auto f = shell::section_forces(s.section, b.R, X, x);
-        set3(disp.values, p, xc - xr);
-        set3(nf.values, p, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
-        set3(mf.values, p, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
-        set3(nc.values, p, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
-        set3(mc.values, p, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
+  // threads. The 1-D basis functions are evaluated once per sample row and column, and the points' bases
+  // reuse one storage per thread: a malloc per point would serialise the threads on the allocator's lock
+  // (one arena: run/process_environment.cpp).
+#pragma omp parallel
+  {
+    std::vector<Eigen::MatrixXd> nu(static_cast<std::size_t>(n)), nv(static_cast<std::size_t>(n));
+    spline::SurfaceBasis b;
+#pragma omp for schedule(dynamic, 16)
+    for (std::int64_t e = 0; e < elements; ++e) {
+      const auto& el = s.elements[static_cast<std::size_t>(e)];
+      const auto& cps = s.element_control_points[static_cast<std::size_t>(e)];
+      const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, m.dofs);
+      for (int k = 0; k <= samples; ++k) {
+        nu[static_cast<std::size_t>(k)] =
+            spline::bspline_basis_derivs(s.surface.knots(0), el.span_u, el.u0 + (el.u1 - el.u0) * k / samples, 2);
+        nv[static_cast<std::size_t>(k)] =
+            spline::bspline_basis_derivs(s.surface.knots(1), el.span_v, el.v0 + (el.v1 - el.v0) * k / samples, 2);
       }
+      for (int j = 0; j <= samples; ++j)
+        for (int i = 0; i <= samples; ++i) {
+          const std::size_t p = static_cast<std::size_t>(e) * static_cast<std::size_t>(n * n) +
+                                static_cast<std::size_t>(j * n + i);
+          s.surface.tensor_basis(el.span_u, el.span_v, nu[static_cast<std::size_t>(i)], nv[static_cast<std::size_t>(j)], b);
+          const Eigen::Vector3d xr = X * b.R.row(0).transpose(), xc = x * b.R.row(0).transpose();
+          mesh.points[p] = xc;
+          const auto f = shell::section_forces(s.section, b.R, X, x);
+          set3(disp.values, p, xc - xr);
+          set3(nf.values, p, {f.N_local(0, 0), f.N_local(1, 1), f.N_local(0, 1)});
+          set3(mf.values, p, {f.M_local(0, 0), f.M_local(1, 1), f.M_local(0, 1)});
+          set3(nc.values, p, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
+          set3(mc.values, p, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
+        }
+    }
   }
   for (std::int64_t e = 0; e < elements; ++e) {
     const int base = static_cast<int>(e) * n * n;

@@ -1,8 +1,10 @@
 #include "spline/basis.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace fibrane::spline {
@@ -20,39 +22,51 @@ Eigen::MatrixXd bspline_basis_derivs(const KnotVector& kv, int span, double u, i
     throw std::invalid_argument("bspline_basis_derivs: span " + std::to_string(span) + " out of range");
   const std::vector<double>& t = kv.knots();
   auto ratio = [](double num, double den) { return den != 0.0 ? num / den : 0.0; };
+  // Three triangular tables of the levels q = 0..p, level q's q + 1 entries from q (q + 1) / 2 on: the
+  // values, and the (k-1)-th and k-th derivatives. On the stack up to degree 21, so that the element
+  // loops that call this on many threads do not meet at the allocator.
+  const int tri = (p + 1) * (p + 2) / 2;
+  constexpr int kStack = 256;
+  std::array<double, 3 * kStack> stack;
+  std::vector<double> heap;
+  double* tables = stack.data();
+  if (tri > kStack) {
+    heap.resize(3 * static_cast<std::size_t>(tri));
+    tables = heap.data();
+  }
+  double* values = tables;
+  double* prev = tables + tri;
+  double* cur = tables + 2 * tri;
+  const auto at = [](double* level, int q, int j) -> double& { return level[q * (q + 1) / 2 + j]; };
 
-  // values[q][j] = N_{span-q+j, q}(u)
-  std::vector<std::vector<double>> values(p + 1);
-  values[0] = {1.0};
+  // at(values, q, j) = N_{span-q+j, q}(u)
+  at(values, 0, 0) = 1.0;
   for (int q = 1; q <= p; ++q) {
-    values[q].assign(q + 1, 0.0);
     for (int j = 0; j <= q; ++j) {
       const int i = span - q + j;
       // N_{i,q-1} sits at index j-1 of level q-1, N_{i+1,q-1} at index j.
-      const double left = j >= 1 ? values[q - 1][j - 1] : 0.0;
-      const double right = j <= q - 1 ? values[q - 1][j] : 0.0;
-      values[q][j] = ratio(u - t[i], t[i + q] - t[i]) * left +
-                     ratio(t[i + q + 1] - u, t[i + q + 1] - t[i + 1]) * right;
+      const double left = j >= 1 ? at(values, q - 1, j - 1) : 0.0;
+      const double right = j <= q - 1 ? at(values, q - 1, j) : 0.0;
+      at(values, q, j) = ratio(u - t[i], t[i + q] - t[i]) * left +
+                         ratio(t[i + q + 1] - u, t[i + q + 1] - t[i + 1]) * right;
     }
   }
 
   Eigen::MatrixXd result = Eigen::MatrixXd::Zero(n_deriv + 1, p + 1);
-  for (int j = 0; j <= p; ++j) result(0, j) = values[p][j];
-  // prev[q] = (k-1)-th derivatives at level q; only levels q >= k-1 are meaningful.
-  std::vector<std::vector<double>> prev = values;
+  for (int j = 0; j <= p; ++j) result(0, j) = at(values, p, j);
+  // prev: the (k-1)-th derivatives per level; only levels q >= k-1 are meaningful.
+  std::copy(values, values + tri, prev);
   for (int k = 1; k <= std::min(n_deriv, p); ++k) {
-    std::vector<std::vector<double>> cur(p + 1);
     for (int q = k; q <= p; ++q) {
-      cur[q].assign(q + 1, 0.0);
       for (int j = 0; j <= q; ++j) {
         const int i = span - q + j;
-        const double left = j >= 1 ? prev[q - 1][j - 1] : 0.0;
-        const double right = j <= q - 1 ? prev[q - 1][j] : 0.0;
-        cur[q][j] = q * (ratio(left, t[i + q] - t[i]) - ratio(right, t[i + q + 1] - t[i + 1]));
+        const double left = j >= 1 ? at(prev, q - 1, j - 1) : 0.0;
+        const double right = j <= q - 1 ? at(prev, q - 1, j) : 0.0;
+        at(cur, q, j) = q * (ratio(left, t[i + q] - t[i]) - ratio(right, t[i + q + 1] - t[i + 1]));
       }
     }
-    for (int j = 0; j <= p; ++j) result(k, j) = cur[p][j];
-    prev = std::move(cur);
+    for (int j = 0; j <= p; ++j) result(k, j) = at(cur, p, j);
+    std::swap(prev, cur);
   }
   return result;
 }

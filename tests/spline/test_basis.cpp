@@ -6,7 +6,10 @@
 // max(1, |derivative|)). Sample points are kept 1e-3 away from knots so u +- h stays on one piece.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <random>
+#include <vector>
 
 #include "spline/basis.hpp"
 #include "spline/curve.hpp"
@@ -39,6 +42,28 @@ TEST(Basis, MatchesQuadraticBernsteinPolynomials) {
   EXPECT_NEAR(n(2, 1), -4.0, 1e-14);
   EXPECT_NEAR(n(2, 2), 2.0, 1e-14);
   EXPECT_EQ(n.row(3).norm(), 0.0);  // beyond the degree
+}
+
+// High degrees: the recursion's tables sit on the stack up to degree 21 and on the heap above; both give
+// the Bernstein polynomials C(p, j) u^j (1 - u)^(p - j) and their first derivatives (to 1e-12 relative:
+// binomial coefficients up to ~3e6 at degree 24, round-off growing with the degree).
+TEST(Basis, HighDegreesMatchBernsteinPolynomials) {
+  for (const int p : {20, 21, 22, 24}) {
+    std::vector<double> knots(static_cast<std::size_t>(p + 1), 0.0);
+    knots.resize(static_cast<std::size_t>(2 * p + 2), 1.0);
+    const KnotVector kv(p, knots);
+    const double u = 0.37;
+    const Eigen::MatrixXd n = bspline_basis_derivs(kv, kv.find_span(u), u, 1);
+    double binomial = 1.0;
+    for (int j = 0; j <= p; ++j) {
+      const double value = binomial * std::pow(u, j) * std::pow(1 - u, p - j);
+      const double slope = binomial * ((j > 0 ? j * std::pow(u, j - 1) * std::pow(1 - u, p - j) : 0.0) -
+                                       (j < p ? (p - j) * std::pow(u, j) * std::pow(1 - u, p - j - 1) : 0.0));
+      EXPECT_NEAR(n(0, j), value, 1e-12 * std::max(1.0, std::abs(value))) << "degree " << p << ", j " << j;
+      EXPECT_NEAR(n(1, j), slope, 1e-12 * std::max(1.0, std::abs(slope)) * p) << "degree " << p << ", j " << j;
+      binomial = binomial * (p - j) / (j + 1);
+    }
+  }
 }
 
 TEST(Basis, BSplinePartitionOfUnityAndDerivativesSumToZero) {
