@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_state.hpp"
 #include "case_edit.hpp"
 #include "case/case_reader.hpp"
 #include "linalg/cholmod_split.hpp"
@@ -42,7 +43,6 @@
 #include "linalg/linear_solver.hpp"
 #include "linalg/skew_correction.hpp"
 #include "linalg/symmetry_probe.hpp"
-#include "run/checkpoint.hpp"
 #include "run/process_environment.hpp"
 
 namespace {
@@ -197,14 +197,7 @@ int run_bench(int argc, char** argv) {
   if (kinds.empty()) kinds = {"auto", "symmetric-auto"};
   auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
-  if (state.empty()) {
-    m.evaluate(m.initial_unknowns(), 0.0, true);
-  } else {
-    const fibrane::run::RunCheckpoint checkpoint = fibrane::run::read_checkpoint(state, c);
-    m.restore_state(checkpoint.model);
-    m.evaluate(checkpoint.q, checkpoint.t, true);
-    fmt::print("state: step {} at t = {} from {}\n", checkpoint.step, checkpoint.t, state);
-  }
+  evaluate_at_state(c, state, true);
   Eigen::SparseMatrix<double> k = m.tangent();
   const double mean_diagonal = k.diagonal().mean();
   if (shift != 0) k.diagonal().array() -= shift * mean_diagonal;

@@ -14,9 +14,9 @@
 #include <string>
 
 #include "case/case_reader.hpp"
+#include "bench_state.hpp"
 #include "case_edit.hpp"
 #include "output/body_vtk.hpp"
-#include "run/checkpoint.hpp"
 #include "run/process_environment.hpp"
 
 namespace {
@@ -73,14 +73,7 @@ int run_bench(int argc, char** argv) {
   auto c = fibrane::casefile::read_case(*path);
   auto& m = *c.model;
   if (samples == 0) samples = c.output.samples;
-  if (state.empty()) {
-    m.evaluate(m.initial_unknowns(), 0.0, false);
-  } else {
-    const fibrane::run::RunCheckpoint checkpoint = fibrane::run::read_checkpoint(state, c);
-    m.restore_state(checkpoint.model);
-    m.evaluate(checkpoint.q, checkpoint.t, false);
-    fmt::print("state: step {} at t = {} from {}\n", checkpoint.step, checkpoint.t, state);
-  }
+  evaluate_at_state(c, state, false);
   const int threads = omp_get_max_threads();
   fmt::print("case {}: {} samples per element edge, best of {} rounds, wall seconds\n", argv[1], samples, rounds);
   fmt::print("| shell | threads | sampled mesh | its document | Bezier mesh | its document | all | documents' bytes |\n");
