@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "common/parallel_errors.hpp"
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 
@@ -152,11 +153,13 @@ std::string zlib_blocks(const void* data, std::size_t size, std::size_t block_si
   std::vector<std::string> parts(blocks);
   std::vector<int> status(blocks, Z_OK);
   const auto count = static_cast<std::int64_t>(blocks);
+  FirstError error;
 #pragma omp parallel
   {
-    std::string buffer(compressBound(static_cast<uLong>(std::min(block_size, size))), '\0');
+    std::string buffer;
+    error.run([&] { buffer.resize(compressBound(static_cast<uLong>(std::min(block_size, size)))); });
 #pragma omp for schedule(static)
-    for (std::int64_t b = 0; b < count; ++b) {
+    for (std::int64_t b = 0; b < count; ++b) error.run([&] {
       const std::size_t begin = static_cast<std::size_t>(b) * block_size, length = std::min(block_size, size - begin);
       uLongf compressed = static_cast<uLongf>(buffer.size());
       // zlib's default level: on fibrane's Float64 output about 5 % smaller than Z_BEST_SPEED, at about
@@ -164,8 +167,9 @@ std::string zlib_blocks(const void* data, std::size_t size, std::size_t block_si
       status[static_cast<std::size_t>(b)] = compress2(reinterpret_cast<Bytef*>(buffer.data()), &compressed, bytes + begin,
                                                       static_cast<uLong>(length), Z_DEFAULT_COMPRESSION);
       parts[static_cast<std::size_t>(b)].assign(buffer.data(), compressed);
-    }
+    });
   }
+  error.rethrow();
   std::vector<std::uint64_t> header{blocks, block_size, size % block_size};
   std::size_t total = 0;
   for (std::uint64_t b = 0; b < blocks; ++b) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "common/parallel_errors.hpp"
 #include "spline/basis.hpp"
 #include "spline/quadrature.hpp"
 
@@ -46,12 +47,13 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
   // threads. The 1-D basis functions are evaluated once per sample row and column, and the points' bases
   // reuse one storage per thread: a malloc per point would serialise the threads on the allocator's lock
   // (one arena: run/process_environment.cpp).
+  FirstError error;
 #pragma omp parallel
   {
     std::vector<Eigen::MatrixXd> nu(static_cast<std::size_t>(n)), nv(static_cast<std::size_t>(n));
     spline::SurfaceBasis b;
 #pragma omp for schedule(dynamic, 16)
-    for (std::int64_t e = 0; e < elements; ++e) {
+    for (std::int64_t e = 0; e < elements; ++e) error.run([&] {
       const auto& el = s.elements[static_cast<std::size_t>(e)];
       const auto& cps = s.element_control_points[static_cast<std::size_t>(e)];
       const Eigen::Matrix3Xd X = s.reference(cps), x = s.current(cps, u, m.dofs);
@@ -75,8 +77,9 @@ io::VtuMesh shell_vtu(const Model& m, const ShellBody& s, int samples) {
           set3(nc.values, p, {f.N(0, 0), f.N(1, 1), f.N(0, 1)});
           set3(mc.values, p, {f.M(0, 0), f.M(1, 1), f.M(0, 1)});
         }
-    }
+    });
   }
+  error.rethrow();
   for (std::int64_t e = 0; e < elements; ++e) {
     const int base = static_cast<int>(e) * n * n;
     for (int j = 0; j < samples; ++j)
