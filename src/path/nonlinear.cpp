@@ -75,7 +75,7 @@ class NewtonIteration {
   NewtonReport run() {
     solver_.begin_step();
     for (int it = 0;; ++it) {
-      bool with_tangent = !reuse_ && !expect_converged_;
+      const bool with_tangent = !reuse_ && !expect_converged_;
       const double norm = evaluate(it, with_tangent);
       rep_.residual_norm = norm;
       rep_.history.push_back(norm);
@@ -97,10 +97,7 @@ class NewtonIteration {
       const double contraction = it > 0 ? norm / rep_.history[it - 1] : 1.0;
       if (reuse_ && (!factor_valid_ || !(contraction <= 0.25))) reuse_ = false;
       const bool fresh = !reuse_;
-      if (fresh && !with_tangent) {
-        sys_.evaluate(q_, t_, true);
-        with_tangent = true;
-      }
+      if (fresh && !with_tangent) sys_.evaluate(q_, t_, true);
       if (fresh && !factorise(it)) return rep_;
       if (!update(it)) return rep_;
       // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
