@@ -45,8 +45,8 @@ struct CholmodSplitOptions {
   // The last domain still being factorised gets the BLAS threads of those that have finished. Off by
   // default: OpenBLAS's results depend on its thread count, and the point at which the count changes
   // depends on timing, so two factorisations of one matrix differ (the paper mesh's solution by 1.5e-6
-  // relative, against 1.7e-13 with one thread each to the end and 0 whole) for ~2 % of a refactorisation
-  // (docs/performance.md, "Idle cores to the last domain").
+  // relative, where one BLAS thread each to the end gives the same bits every time) for ~2 % of a
+  // refactorisation (docs/performance.md, "Idle cores to the last domain").
   bool share_idle_cores = false;
 };
 std::unique_ptr<LinearSolver> make_cholmod_split_llt(const CholmodSplitOptions& options = {});

@@ -22,13 +22,14 @@ inline double makespan(std::vector<double> work, int threads) {
 // Runs body(k) for every k of `items`, side by side on up to `threads` threads with one BLAS thread each
 // where there are at least half as many items as threads, one after the other with the configured BLAS
 // threads where there are fewer (a few large dense fronts); false where a body returned false. Each item
-// goes to the thread that is free first, in the order given. Once a single item is left unfinished, it
-// runs alone, and its further BLAS calls get the configured threads back: the cores of the threads that
-// have finished work on its last, largest supernodes (OpenBLAS's thread count is global, so it is raised
-// only when one body alone calls the BLAS).
-// `share` false: each keeps its one BLAS thread to the end.
+// goes to the thread that is free first, in the order given.
+// `share` true: once a single item is left unfinished, it runs alone, and its further BLAS calls get the
+// configured threads back (OpenBLAS's thread count is global, so it is raised only when one body alone
+// calls the BLAS). When that happens depends on timing, so a body may be given only BLAS calls whose
+// results do not depend on the thread count (OpenBLAS's level-2 calls do: dgemv and dtrsv on several
+// threads sum in another order, and a split solve then differed in its last bits from run to run).
 template <class Body>
-bool side_by_side(const std::vector<int>& items, int threads, Body&& body, bool share = true) {
+bool side_by_side(const std::vector<int>& items, int threads, Body&& body, bool share = false) {
   const int n = static_cast<int>(items.size());
   if (2 * n < threads || n == 1) {
     for (const int k : items)
