@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <optional>
-#include <queue>
 #include <stdexcept>
 
 namespace fibrane::interaction {
@@ -17,7 +16,10 @@ struct SurfaceJet {
 
 SurfaceJet evaluate(const spline::NurbsSurface& s, const std::vector<Eigen::Vector3d>& x, double u,
                     double v) {
-  const spline::SurfaceBasis b = s.basis(u, v);
+  // Per thread: the projections run in the interaction's parallel loops.
+  thread_local spline::SurfaceBasis b;
+  thread_local Eigen::MatrixXd nu, nv;
+  s.basis(u, v, b, nu, nv);
   SurfaceJet j{};
   j.r.setZero(), j.g1.setZero(), j.g2.setZero(), j.g11.setZero(), j.g12.setZero(), j.g22.setZero();
   for (std::size_t a = 0; a < b.indices.size(); ++a) {
@@ -216,17 +218,24 @@ int ShellProximity::build(int first, int count) {
 std::optional<ShellProximity::Candidate> ShellProximity::global_candidate(const Eigen::Vector3d& p,
                                                                            double bound) const {
   using Entry = std::pair<double, int>;  // (squared box distance, node)
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  queue.push({nodes_[0].box.squaredExteriorDistance(p), 0});
+  // A min-heap of the boxes to visit, in storage kept per thread (the searches run in parallel loops).
+  thread_local std::vector<Entry> queue;
+  queue.clear();
+  auto push = [](const Entry& entry) {
+    queue.push_back(entry);
+    std::push_heap(queue.begin(), queue.end(), std::greater<>());
+  };
+  push({nodes_[0].box.squaredExteriorDistance(p), 0});
   std::optional<Candidate> best;
   while (!queue.empty()) {
-    const auto [box_distance, id] = queue.top();
-    queue.pop();
+    std::pop_heap(queue.begin(), queue.end(), std::greater<>());
+    const auto [box_distance, id] = queue.back();
+    queue.pop_back();
     if (box_distance >= bound) break;  // every remaining box is farther than the best sample
     const Node& node = nodes_[id];
     if (node.left >= 0) {
-      queue.push({nodes_[node.left].box.squaredExteriorDistance(p), node.left});
-      queue.push({nodes_[node.right].box.squaredExteriorDistance(p), node.right});
+      push({nodes_[node.left].box.squaredExteriorDistance(p), node.left});
+      push({nodes_[node.right].box.squaredExteriorDistance(p), node.right});
       continue;
     }
     for (int k = node.first; k < node.first + node.count; ++k) {

@@ -34,17 +34,28 @@ std::vector<std::vector<int>> ShellBody::element_dofs(const solve::DofMap& dofs)
 }
 
 Eigen::Matrix3Xd ShellBody::reference(const std::vector<int>& cps) const {
-  Eigen::Matrix3Xd X(3, cps.size());
-  for (std::size_t a = 0; a < cps.size(); ++a) X.col(a) = surface.control_points()[cps[a]];
+  Eigen::Matrix3Xd X;
+  reference(cps, X);
   return X;
+}
+
+void ShellBody::reference(const std::vector<int>& cps, Eigen::Matrix3Xd& X) const {
+  X.resize(3, static_cast<Eigen::Index>(cps.size()));
+  for (std::size_t a = 0; a < cps.size(); ++a) X.col(static_cast<Eigen::Index>(a)) = surface.control_points()[cps[a]];
 }
 
 Eigen::Matrix3Xd ShellBody::current(const std::vector<int>& cps, const Eigen::VectorXd& u,
                                     const solve::DofMap& dofs) const {
-  Eigen::Matrix3Xd x = reference(cps);
-  for (std::size_t a = 0; a < cps.size(); ++a)
-    for (int c = 0; c < 3; ++c) x(c, a) += u[dofs.dof(block, cps[a], c)];
+  Eigen::Matrix3Xd x;
+  current(cps, u, dofs, x);
   return x;
+}
+
+void ShellBody::current(const std::vector<int>& cps, const Eigen::VectorXd& u, const solve::DofMap& dofs,
+                        Eigen::Matrix3Xd& x) const {
+  reference(cps, x);
+  for (std::size_t a = 0; a < cps.size(); ++a)
+    for (int c = 0; c < 3; ++c) x(c, static_cast<Eigen::Index>(a)) += u[dofs.dof(block, cps[a], c)];
 }
 
 double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*status*/) {
@@ -75,13 +86,14 @@ double ShellBody::evaluate(const State& state, ElementSink& sink, Status& /*stat
     spline::SurfaceBasis basis;
     Eigen::VectorXd r;
     Eigen::MatrixXd k;
+    Eigen::Matrix3Xd X, x;
     shell::ElementTangent element_tangent;
     sink.for_each_element(n_elements, 16, [&](int e) { error.run([&] {
       if (!sink.owns(e)) return;
       const auto& el = elements[e];
       const auto& cps = element_control_points[e];
-      const Eigen::Matrix3Xd X = reference(cps);
-      const Eigen::Matrix3Xd x = current(cps, u, dofs);
+      reference(cps, X);
+      current(cps, u, dofs, x);
       const int n = 3 * static_cast<int>(cps.size());
       r.setZero(n);
       if (with_tangent) element_tangent.reset(static_cast<int>(cps.size()));

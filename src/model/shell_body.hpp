@@ -32,6 +32,11 @@ class ShellBody final : public Contribution {
   // Current control points x = X + u for the control points `cps`.
   Eigen::Matrix3Xd current(const std::vector<int>& cps, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
   Eigen::Matrix3Xd reference(const std::vector<int>& cps) const;
+  // The same into `x` / `X`, whose storage is kept where it has the size (an element loop's per-thread
+  // arrays, without an allocation per element).
+  void current(const std::vector<int>& cps, const Eigen::VectorXd& u, const solve::DofMap& dofs,
+               Eigen::Matrix3Xd& x) const;
+  void reference(const std::vector<int>& cps, Eigen::Matrix3Xd& X) const;
   // Displacement of the surface point (u, v).
   Eigen::Vector3d displacement(double pu, double pv, const Eigen::VectorXd& u, const solve::DofMap& dofs) const;
 

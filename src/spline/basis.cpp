@@ -16,6 +16,12 @@ namespace fibrane::spline {
 // with 0/0 := 0 (a zero-length support term vanishes).
 // Storage: level q holds q+1 values for functions i = span - q + j, j = 0..q.
 Eigen::MatrixXd bspline_basis_derivs(const KnotVector& kv, int span, double u, int n_deriv) {
+  Eigen::MatrixXd result;
+  bspline_basis_derivs(kv, span, u, n_deriv, result);
+  return result;
+}
+
+void bspline_basis_derivs(const KnotVector& kv, int span, double u, int n_deriv, Eigen::MatrixXd& result) {
   const int p = kv.degree();
   if (n_deriv < 0) throw std::invalid_argument("bspline_basis_derivs: n_deriv must be >= 0");
   if (span < p || span >= kv.num_basis())
@@ -52,7 +58,7 @@ Eigen::MatrixXd bspline_basis_derivs(const KnotVector& kv, int span, double u, i
     }
   }
 
-  Eigen::MatrixXd result = Eigen::MatrixXd::Zero(n_deriv + 1, p + 1);
+  result.setZero(n_deriv + 1, p + 1);
   for (int j = 0; j <= p; ++j) result(0, j) = at(values, p, j);
   // prev: the (k-1)-th derivatives per level; only levels q >= k-1 are meaningful.
   std::copy(values, values + tri, prev);
@@ -68,7 +74,6 @@ Eigen::MatrixXd bspline_basis_derivs(const KnotVector& kv, int span, double u, i
     for (int j = 0; j <= p; ++j) result(k, j) = at(cur, p, j);
     std::swap(prev, cur);
   }
-  return result;
 }
 
 }  // namespace fibrane::spline

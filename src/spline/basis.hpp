@@ -11,5 +11,8 @@ namespace fibrane::spline {
 //   result(k, j) = d^k N_{span-p+j, p}(u) / du^k,   k = 0..n_deriv, j = 0..p.
 // Rows k > p are zero (a degree-p polynomial piece). n_deriv >= 0.
 Eigen::MatrixXd bspline_basis_derivs(const KnotVector& kv, int span, double u, int n_deriv);
+// The same into `out`, whose storage is kept where it has the size (no allocation in loops that call it
+// on many threads).
+void bspline_basis_derivs(const KnotVector& kv, int span, double u, int n_deriv, Eigen::MatrixXd& out);
 
 }  // namespace fibrane::spline

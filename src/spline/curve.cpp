@@ -1,8 +1,10 @@
 #include "spline/curve.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "common/gauss_legendre.hpp"
 #include "spline/basis.hpp"
@@ -30,30 +32,41 @@ bool NurbsCurve::is_rational() const {
   return std::any_of(weights_.begin(), weights_.end(), [&](double w) { return w != weights_.front(); });
 }
 
-Eigen::MatrixXd rationalize_curve_basis(const Eigen::MatrixXd& bspline, const Eigen::VectorXd& weights) {
-  const int n_deriv = static_cast<int>(bspline.rows()) - 1;
-  const Eigen::MatrixXd weighted = bspline * weights.asDiagonal();
-  const Eigen::VectorXd w_derivs = weighted.rowwise().sum();  // W^(k)
-  Eigen::MatrixXd rational(bspline.rows(), bspline.cols());
-  for (int k = 0; k <= n_deriv; ++k) {
-    Eigen::RowVectorXd row = weighted.row(k);
+void rationalize_curve_basis(Eigen::MatrixXd& basis, const double* weights) {
+  const auto rows = static_cast<int>(basis.rows()), cols = static_cast<int>(basis.cols());
+  for (int j = 0; j < cols; ++j)
+    for (int k = 0; k < rows; ++k) basis(k, j) *= weights[j];  // A
+  // W^(k) by Eigen's row sums (their order of additions), on the stack up to the 7th derivative
+  constexpr int kOnStack = 8;
+  Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kOnStack, 1> w_on_stack;
+  Eigen::VectorXd w_on_heap;
+  const double* w_derivs = nullptr;
+  if (rows <= kOnStack) w_on_stack = basis.rowwise().sum(), w_derivs = w_on_stack.data();
+  else w_on_heap = basis.rowwise().sum(), w_derivs = w_on_heap.data();
+  // Row k needs only itself and the rows above it, which are rational by then.
+  std::array<double, kOnStack> factor_on_stack{};
+  std::vector<double> factor_on_heap(rows > kOnStack ? static_cast<std::size_t>(rows) : 0);
+  double* factor = rows > kOnStack ? factor_on_heap.data() : factor_on_stack.data();  // C(k, i) W^(i)
+  for (int k = 0; k < rows; ++k) {
     double binomial = 1.0;  // C(k, i), updated incrementally
     for (int i = 1; i <= k; ++i) {
       binomial = binomial * (k - i + 1) / i;
-      row -= binomial * w_derivs[i] * rational.row(k - i);
+      factor[i] = binomial * w_derivs[i];
     }
-    rational.row(k) = row / w_derivs[0];
+    for (int j = 0; j < cols; ++j) {
+      double a = basis(k, j);
+      for (int i = 1; i <= k; ++i) a -= factor[i] * basis(k - i, j);
+      basis(k, j) = a / w_derivs[0];
+    }
   }
-  return rational;
 }
 
 CurveBasis NurbsCurve::basis(double u, int n_deriv) const {
   const int p = degree();
   const int span = knots_.find_span(u);
-  const Eigen::MatrixXd bspline = bspline_basis_derivs(knots_, span, u, n_deriv);
-  Eigen::VectorXd local_weights(p + 1);
-  for (int j = 0; j <= p; ++j) local_weights[j] = weights_[span - p + j];
-  return {span - p, rationalize_curve_basis(bspline, local_weights)};
+  CurveBasis b{span - p, bspline_basis_derivs(knots_, span, u, n_deriv)};
+  rationalize_curve_basis(b.R, weights_.data() + (span - p));
+  return b;
 }
 
 Eigen::Vector3d NurbsCurve::point(double u) const { return derivative(u, 0); }

@@ -54,8 +54,9 @@ class NurbsCurve {
 
 // Rational basis from B-spline derivatives: A = w_j N_j^(k), W^(k) = sum_j A_j^(k),
 //   R^(k) = (A^(k) - sum_{i=1..k} C(k,i) W^(i) R^(k-i)) / W.
-// `bspline` is (n+1) x (p+1) as from bspline_basis_derivs; `weights` are those of the p+1 functions.
-Eigen::MatrixXd rationalize_curve_basis(const Eigen::MatrixXd& bspline, const Eigen::VectorXd& weights);
+// `basis` is (n+1) x (p+1) as from bspline_basis_derivs and becomes R in place (no allocation up to the
+// 7th derivative); `weights` are those of the p+1 functions.
+void rationalize_curve_basis(Eigen::MatrixXd& basis, const double* weights);
 
 // Arc length of the curve from xi0 to xi by 10-point Gauss-Legendre: exact to round-off for the output
 // coordinates along one element of a smooth axis (xi0 and xi in one knot span).

@@ -40,6 +40,13 @@ SurfaceBasis NurbsSurface::basis(double u, double v) const {
   return basis_in(knots_u_.find_span(u), knots_v_.find_span(v), u, v);
 }
 
+void NurbsSurface::basis(double u, double v, SurfaceBasis& out, Eigen::MatrixXd& nu, Eigen::MatrixXd& nv) const {
+  const int span_u = knots_u_.find_span(u), span_v = knots_v_.find_span(v);
+  bspline_basis_derivs(knots_u_, span_u, u, 2, nu);
+  bspline_basis_derivs(knots_v_, span_v, v, 2, nv);
+  tensor_basis(span_u, span_v, nu, nv, out);
+}
+
 // With A_a = w_a N_i M_j and W = sum_a A_a (and likewise for the derivatives), R = A / W and
 //   R_u  = (A_u - R W_u) / W
 //   R_uu = (A_uu - 2 R_u W_u - R W_uu) / W

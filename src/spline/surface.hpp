@@ -40,6 +40,9 @@ class NurbsSurface {
   int index(int i, int j) const { return i + num_control_points(0) * j; }
 
   SurfaceBasis basis(double u, double v) const;  // rational, with first and second derivatives
+  // The same into `out`, with `nu` and `nv` holding the 1-D bases: no allocation once they have the size
+  // (loops that evaluate surfaces on many threads keep them per thread).
+  void basis(double u, double v, SurfaceBasis& out, Eigen::MatrixXd& nu, Eigen::MatrixXd& nv) const;
   // Same with the knot spans given (e.g. SurfaceElement::span_u/v), so that points on an element's
   // boundary are evaluated with that element's polynomial pieces.
   SurfaceBasis basis_in(int span_u, int span_v, double u, double v) const;

@@ -119,6 +119,45 @@ TEST(Basis, RationalCurveBasis) {
   }
 }
 
+// Derivatives beyond the 7th (rationalize_curve_basis's arrays then on the heap): a rational curve raised
+// to degree 10 keeps the partition of unity in every derivative (the rows k >= 1 sum to zero), and the 9th
+// derivative is the central difference of the 8th.
+TEST(Basis, RationalCurveBasisOfHighDerivatives) {
+  std::mt19937 rng(8);
+  NurbsCurve curve = testing::random_curve(rng, true);
+  curve.elevate_degree(10 - curve.degree());
+  ASSERT_EQ(curve.degree(), 10);
+  for (int s = 0; s < 20; ++s) {
+    const double u = param_away_from_knots(rng, curve.knots(), 1e-2);
+    const CurveBasis b = curve.basis(u, 10);
+    ASSERT_EQ(b.R.rows(), 11);
+    EXPECT_NEAR(b.R.row(0).sum(), 1.0, 1e-13);
+    for (int k = 1; k <= 10; ++k) EXPECT_NEAR(b.R.row(k).sum(), 0.0, 1e-9 * b.R.row(k).cwiseAbs().sum()) << k;
+    const double h = 1e-5;
+    const CurveBasis plus = curve.basis(u + h, 10), minus = curve.basis(u - h, 10);
+    for (int j = 0; j < b.R.cols(); ++j) {
+      const double fd = (plus.R(8, j) - minus.R(8, j)) / (2 * h);
+      EXPECT_NEAR(b.R(9, j), fd, 1e-5 * b.R.row(9).cwiseAbs().maxCoeff()) << j;
+    }
+  }
+}
+
+// The basis into kept storage is the value-returning basis, bit for bit.
+TEST(Basis, SurfaceBasisIntoKeptStorageIsTheSameBits) {
+  std::mt19937 rng(9);
+  const NurbsSurface surface = testing::random_surface(rng, true);
+  SurfaceBasis kept;
+  Eigen::MatrixXd nu, nv;
+  for (int s = 0; s < 20; ++s) {
+    const double u = param_away_from_knots(rng, surface.knots(0), 1e-3);
+    const double v = param_away_from_knots(rng, surface.knots(1), 1e-3);
+    surface.basis(u, v, kept, nu, nv);
+    const SurfaceBasis b = surface.basis(u, v);
+    EXPECT_EQ(kept.indices, b.indices);
+    EXPECT_EQ((kept.R - b.R).cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
 TEST(Basis, RationalSurfaceBasis) {
   std::mt19937 rng(4);
   const NurbsSurface surface = testing::random_surface(rng, true);
