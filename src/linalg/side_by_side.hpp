@@ -25,9 +25,9 @@ inline double makespan(std::vector<double> work, int threads) {
 // goes to the thread that is free first, in the order given.
 // `share` true: once a single item is left unfinished, it runs alone, and its further BLAS calls get the
 // configured threads back (OpenBLAS's thread count is global, so it is raised only when one body alone
-// calls the BLAS). When that happens depends on timing, so a body may be given only BLAS calls whose
-// results do not depend on the thread count (OpenBLAS's level-2 calls do: dgemv and dtrsv on several
-// threads sum in another order, and a split solve then differed in its last bits from run to run).
+// calls the BLAS). When that happens depends on timing, so a body that shares gives last bits that vary
+// from run to run wherever its BLAS calls' results depend on the thread count (OpenBLAS's dgemv and dtrsv,
+// and a dense front's dpotrf, dtrsm and dsyrk: tests/solve/test_side_by_side.cpp).
 template <class Body>
 bool side_by_side(const std::vector<int>& items, int threads, Body&& body, bool share = false) {
   const int n = static_cast<int>(items.size());
