@@ -1,8 +1,8 @@
 #!/bin/bash
 # Packs the built programs for a machine without Debian's packages (the scale measurements of
 # docs/performance.md on a 16-core machine): build/app/fibrane (serial), build/bench/bench_newton_breakdown,
-# build/bench/bench_linear_solver, build/bench/bench_dense_blas, build/bench/bench_fresh_memory and, where it
-# is built,
+# build/bench/bench_linear_solver, build/bench/bench_dense_blas, build/bench/bench_fresh_memory,
+# build/bench/bench_assembly_threads and, where it is built,
 # build-petsc/app/fibrane (PETSc, as fibrane-mpi), every shared library
 # they and Open MPI's launcher load except glibc's, OpenBLAS's OpenMP build in lib-openblas-openmp/ where
 # libopenblas0-openmp is installed (chosen per run by LD_LIBRARY_PATH), and Open MPI's run-time files
@@ -19,7 +19,7 @@ mkdir -p "$stage/bundle/bin" "$stage/bundle/lib" "$stage/bundle/system"
 
 cp build/app/fibrane "$stage/bundle/bin/fibrane"
 cp build/bench/bench_newton_breakdown build/bench/bench_linear_solver build/bench/bench_dense_blas \
-   build/bench/bench_fresh_memory "$stage/bundle/bin/"
+   build/bench/bench_fresh_memory build/bench/bench_assembly_threads "$stage/bundle/bin/"
 if [ -x build-petsc/app/fibrane ]; then
   cp build-petsc/app/fibrane "$stage/bundle/bin/fibrane-mpi"
 else

@@ -20,6 +20,10 @@
 #      47 k example and the 278 k membrane to t = 1 and bench_linear_solver's CHOLMOD factor of the 1.1 M
 #      membrane's first tangent, side by side with 2 threads each; each process's resident memory every
 #      second beside its time-stamped Newton log.
+#   8. (only when PARTS names it) one malloc arena (fibrane's glibc.malloc.arena_max=1) against one per
+#      thread at 16 threads: an evaluation of the quarter's model with its tangent (bench_assembly_threads,
+#      5 rounds) with each, then the quarter's three steps by bench_newton_breakdown with one per thread
+#      (part 5's q3-bd-t16 is the same with one arena).
 # PARTS (default "1 2 3") picks the parts. Every run stops at DEADLINE seconds (default 560) from the start,
 # so that what was measured comes back when the machine's time runs out; each run's summary line is printed
 # as it ends, and the runs' logs are packed into $OUT/runs.tar.gz after each part. SMOKE=1 runs the same
@@ -215,6 +219,18 @@ if part 7; then
   profile mem-278k "$(($(left) - 5))" fibrane run "$full" -o NAME_DIR/out --threads 2 --quiet --newton-log &
   profile mem-1m-cholmod "$(($(left) - 5))" bench_linear_solver "$work/big-in-memory.yaml" --threads 2 --solver cholmod &
   wait
+  pack
+fi
+if part 8; then
+  say "== 8. one malloc arena against one per thread, 16 threads"
+  tunables=glibc.malloc.mmap_threshold=4294967296:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1
+  for arenas in ":glibc.malloc.arena_max=1" ""; do
+    say "GLIBC_TUNABLES=$tunables$arenas"
+    limit=$(( $(left) < 120 ? $(left) : 120 ))
+    [ "$limit" -ge 10 ] && env LD_LIBRARY_PATH="$libs" GLIBC_TUNABLES="$tunables$arenas" OMP_WAIT_POLICY=passive \
+      timeout -k 5 "$limit" bench_assembly_threads "$work/q3.yaml" --threads 16 --rounds 5 2>&1 | tee -a "$log"
+  done
+  breakdown q3-bd-t16-arenas 16 100 "$work/q3.yaml" GLIBC_TUNABLES="$tunables"
   pack
 fi
 say "done after $((SECONDS - start)) s"
