@@ -41,8 +41,13 @@ void rationalize_curve_basis(Eigen::MatrixXd& basis, const double* weights) {
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kOnStack, 1> w_on_stack;
   Eigen::VectorXd w_on_heap;
   const double* w_derivs = nullptr;
-  if (rows <= kOnStack) w_on_stack = basis.rowwise().sum(), w_derivs = w_on_stack.data();
-  else w_on_heap = basis.rowwise().sum(), w_derivs = w_on_heap.data();
+  if (rows <= kOnStack) {
+    w_on_stack = basis.rowwise().sum();
+    w_derivs = w_on_stack.data();
+  } else {
+    w_on_heap = basis.rowwise().sum();
+    w_derivs = w_on_heap.data();
+  }
   // Row k needs only itself and the rows above it, which are rational by then.
   std::array<double, kOnStack> factor_on_stack{};
   std::vector<double> factor_on_heap(rows > kOnStack ? static_cast<std::size_t>(rows) : 0);
