@@ -30,8 +30,9 @@ inline Eigen::SparseMatrix<double> grid_matrix(int m, double shift, double conve
   return a;
 }
 
-// A 7-point Laplacian on an m x m x m grid plus `shift` * I (SPD), the diagonal scaled as grid_matrix's by
-// 1 + 0.3 U(-1, 1): its nested-dissection factor has dense separator blocks of ~m^2 rows.
+// A 7-point Laplacian on an m x m x m grid plus `shift` * I, the diagonal scaled as grid_matrix's by
+// 1 + 0.3 U(-1, 1): SPD for shift > 6 / 0.7 - 6 = 2.57 (Gershgorin: diagonal >= 0.7 (6 + shift) > 6, the
+// off-diagonal row sum); its nested-dissection factor has dense separator blocks of ~m^2 rows.
 inline Eigen::SparseMatrix<double> grid_matrix_3d(int m, double shift, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);

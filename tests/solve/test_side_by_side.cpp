@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <atomic>
 #include <chrono>
 #include <thread>
 #include <utility>
@@ -18,13 +19,24 @@
 namespace fibrane::solve {
 namespace {
 
-// The BLAS threads each of two bodies sees at its end, the first body ending at once, the second 50 ms
-// later (when it alone is left).
+// The BLAS threads each of two bodies sees at its end, the second body reading its count only once the
+// first has ended: 50 ms after that without sharing; with sharing, as soon as the count has been raised
+// (or after 5 s, when the test fails).
 std::pair<int, int> blas_threads_at_the_end(bool share) {
   std::vector<int> seen(2, 0);
+  std::atomic<bool> first_ended{false};
   side_by_side({0, 1}, 2, [&](int k) {
-    if (k == 1) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    seen[static_cast<std::size_t>(k)] = blas_thread_count();
+    if (k == 0) {
+      seen[0] = blas_thread_count();
+      first_ended = true;
+      return true;
+    }
+    while (!first_ended) std::this_thread::yield();
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(share ? 5 : 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    while (share && blas_thread_count() == 1 && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    seen[1] = blas_thread_count();
     return true;
   }, share);
   return {seen[0], seen[1]};
@@ -48,7 +60,7 @@ TEST(SideBySide, ABodyKeepsOneBlasThreadUnlessItShares) {
 TEST(SideBySide, ASplitFactorisationAndSolveAreTheSameBitsEveryTime) {
   const int before = omp_get_max_threads();
   set_thread_count(4);
-  const Eigen::SparseMatrix<double> a = grid_matrix_3d(22, 0.5, 7);
+  const Eigen::SparseMatrix<double> a = grid_matrix_3d(22, 3.0, 7);
   const Eigen::VectorXd rhs = Eigen::VectorXd::LinSpaced(a.rows(), -1.0, 2.0);
   auto solver = make_cholmod_split_llt({.memory_limit_megabytes = kAvailableMemory, .min_unknowns = 1000,
                                         .max_separator = 5000});

@@ -120,8 +120,10 @@ TEST(Basis, RationalCurveBasis) {
 }
 
 // Derivatives beyond the 7th (rationalize_curve_basis's arrays then on the heap): a rational curve raised
-// to degree 10 keeps the partition of unity in every derivative (the rows k >= 1 sum to zero), and the 9th
-// derivative is the central difference of the 8th.
+// to degree 10 keeps the partition of unity in every derivative (the rows k >= 1 sum to zero, to round-off
+// of the row's magnitude grown by the quotient rule's k terms: 1e-9 of it), and the 9th derivative is the
+// central difference of the 8th (truncation h^2 R^(11) / 6 with h = 1e-5, round-off 1e-16 |R^(8)| / h:
+// both far below 1e-5 of the row's largest entry). A wrong row on the heap path breaks either.
 TEST(Basis, RationalCurveBasisOfHighDerivatives) {
   std::mt19937 rng(8);
   NurbsCurve curve = testing::random_curve(rng, true);
