@@ -46,6 +46,7 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
                               "the most halvings of a Newton update (0: none)");
   newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
   newton.reuse_first = node.get("reuse_first_factorization", newton.reuse_first);
+  newton.local_share = number_in(node, "local_first_update", 0.0, 0.5, false, true, newton.local_share);
   if (newton.reuse_first && !(newton.reuse_below > 0))
     node["reuse_first_factorization"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
 }
@@ -235,7 +236,8 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     stop->reject_unknown_keys();
   }
   if (node->has("predictor")) {
-    s.predictor_order = (*node)["predictor"].as_choice({"secant", "quadratic"}) == "quadratic" ? 2 : 1;
+    const std::string predictor = (*node)["predictor"].as_choice({"secant", "quadratic", "cubic"});
+    s.predictor_order = predictor == "cubic" ? 3 : predictor == "quadratic" ? 2 : 1;
     if (run.method != "load_stepping")
       (*node)["predictor"].fail_message("applies to method: load_stepping (arc_length and dynamics predict "
                                         "each step their own way)");
@@ -245,6 +247,9 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     s.predictor_order = 0;
   }
   read_newton(run.newton, *node);
+  if (node->has("local_first_update") && run.method != "load_stepping")
+    (*node)["local_first_update"].fail_message("applies to method: load_stepping (the arc-length corrector and "
+                                              "the dynamics' steps update globally)");
   read_linear_solver(run.linear_solver, *node);
   if (node->has("reuse_factorization") && (run.linear_solver.krylov || run.linear_solver.precision == "single" ||
                                            run.linear_solver.low_rank > 0))

@@ -21,17 +21,24 @@ LoadStepping::LoadStepping(StepControl control, NewtonOptions newton)
   check_step_control(control_);
 }
 
+namespace {
+// The checkpoint's keys of the k-th past state (0: the latest): t_prev, q_prev, t_prev2, q_prev2, ...
+std::string past_key(const char* what, std::size_t k) {
+  return std::string(what) + "_prev" + (k == 0 ? std::string() : std::to_string(k + 1));
+}
+}  // namespace
+
 MethodState LoadStepping::save() const {
   MethodState s;
   s["t"] = {t_};
   s["t_prev"] = {t_prev_};
   s["dt"] = {dt_};
   s["steps"] = {static_cast<double>(steps_)};
-  s["have_prev"] = {have_prev_ ? 1.0 : 0.0};
-  s["q_prev"] = std::vector<double>(q_prev_.data(), q_prev_.data() + q_prev_.size());
-  if (have_prev2_) {
-    s["t_prev2"] = {t_prev2_};
-    s["q_prev2"] = std::vector<double>(q_prev2_.data(), q_prev2_.data() + q_prev2_.size());
+  s["have_prev"] = {q_past_.empty() ? 0.0 : 1.0};
+  s["q_prev"] = {};
+  for (std::size_t k = 0; k < q_past_.size(); ++k) {
+    if (k > 0) s[past_key("t", k)] = {t_past_[k]};
+    s[past_key("q", k)] = std::vector<double>(q_past_[k].data(), q_past_[k].data() + q_past_[k].size());
   }
   return s;
 }
@@ -41,28 +48,58 @@ void LoadStepping::restore(const MethodState& s) {
   t_prev_ = s.at("t_prev").at(0);
   dt_ = s.at("dt").at(0);
   steps_ = static_cast<int>(s.at("steps").at(0));
-  have_prev_ = s.at("have_prev").at(0) != 0.0;
-  const auto& qp = s.at("q_prev");
-  q_prev_ = Eigen::Map<const Eigen::VectorXd>(qp.data(), static_cast<Eigen::Index>(qp.size()));
-  have_prev2_ = s.count("q_prev2") > 0;
-  if (have_prev2_) {
-    t_prev2_ = s.at("t_prev2").at(0);
-    const auto& qp2 = s.at("q_prev2");
-    q_prev2_ = Eigen::Map<const Eigen::VectorXd>(qp2.data(), static_cast<Eigen::Index>(qp2.size()));
-  }
+  t_past_.clear();
+  q_past_.clear();
+  if (s.at("have_prev").at(0) != 0.0)
+    for (std::size_t k = 0; s.count(past_key("q", k)) > 0; ++k) {
+      const auto& q = s.at(past_key("q", k));
+      t_past_.push_back(k == 0 ? t_prev_ : s.at(past_key("t", k)).at(0));
+      q_past_.emplace_back(Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size())));
+    }
   restored_ = true;
 }
 
 Eigen::VectorXd LoadStepping::predict(const Eigen::VectorXd& q, double t_new) const {
-  if (control_.predictor_order < 1 || !have_prev_) return q;
-  if (control_.predictor_order < 2 || !have_prev2_)  // secant: q(t_new) ~ q + (q - q_prev) dt / dt_prev
-    return q + (q - q_prev_) * ((t_new - t_) / (t_ - t_prev_));
-  // Lagrange parabola through (t_prev2, q_prev2), (t_prev, q_prev), (t, q), evaluated at t_new.
-  const double a = t_prev2_, b = t_prev_, c = t_;
-  const double la = (t_new - b) * (t_new - c) / ((a - b) * (a - c));
-  const double lb = (t_new - a) * (t_new - c) / ((b - a) * (b - c));
-  const double lc = (t_new - a) * (t_new - b) / ((c - a) * (c - b));
-  return la * q_prev2_ + lb * q_prev_ + lc * q;
+  const std::size_t m = std::min(static_cast<std::size_t>(std::max(control_.predictor_order, 0)), q_past_.size());
+  if (m == 0) return q;
+  if (m == 1)  // secant: q(t_new) ~ q + (q - q_prev) dt / dt_prev
+    return q + (q - q_past_[0]) * ((t_new - t_) / (t_ - t_past_[0]));
+  // Lagrange's polynomial through the m + 1 states (the oldest first), evaluated at t_new.
+  std::vector<double> t(m + 1);
+  std::vector<const Eigen::VectorXd*> states(m + 1);
+  for (std::size_t i = 0; i < m; ++i) {
+    t[i] = t_past_[m - 1 - i];
+    states[i] = &q_past_[m - 1 - i];
+  }
+  t[m] = t_;
+  states[m] = &q;
+  auto weight = [&](std::size_t i) {  // the Lagrange basis polynomial of state i at t_new
+    double num = 1.0, den = 1.0;
+    for (std::size_t j = 0; j <= m; ++j)
+      if (j != i) {
+        num *= t_new - t[j];
+        den *= t[i] - t[j];
+      }
+    return num / den;
+  };
+  Eigen::VectorXd out = weight(0) * *states[0];
+  for (std::size_t i = 1; i <= m; ++i) out += weight(i) * *states[i];
+  return out;
+}
+
+void LoadStepping::remember(Eigen::VectorXd& q) {
+  const auto keep = static_cast<std::size_t>(std::max(control_.predictor_order, 0));
+  if (keep > 0) {
+    q_past_.resize(std::min(q_past_.size() + 1, keep));
+    t_past_.resize(q_past_.size());
+    for (std::size_t k = q_past_.size() - 1; k > 0; --k) {  // the oldest falls off the end
+      q_past_[k].swap(q_past_[k - 1]);
+      t_past_[k] = t_past_[k - 1];
+    }
+    q_past_[0].swap(q);
+    t_past_[0] = t_;
+  }
+  t_prev_ = t_;
 }
 
 ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
@@ -72,7 +109,8 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     t_ = t_prev_ = sc.t_start;
     dt_ = std::min(sc.dt_initial, sc.dt_max);
     steps_ = 0;
-    have_prev_ = have_prev2_ = false;
+    t_past_.clear();
+    q_past_.clear();
   }
   ContinuationResult res;
   res.t_reached = t_;
@@ -114,14 +152,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
         return res;
       }
     }
-    if (have_prev_ && sc.predictor_order >= 2) {
-      q_prev2_.swap(q_prev_);
-      t_prev2_ = t_prev_;
-      have_prev2_ = true;
-    }
-    q_prev_ = q;
-    t_prev_ = t_;
-    have_prev_ = true;
+    remember(q);
     q = q_trial;
     t_ = t_new;
     res.t_reached = t_;

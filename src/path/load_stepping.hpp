@@ -2,6 +2,8 @@
 // Load stepping: the load parameter t is prescribed step by step and each step is solved by Newton
 // (paper Sec. 2.3), with automatic cut-back of failed steps and growth after easy ones. It cannot pass a
 // limit point of t (use arc-length continuation for that); a case may declare such a stop its end.
+#include <vector>
+
 #include "path/continuation.hpp"
 
 namespace fibrane::solve {
@@ -12,8 +14,9 @@ struct StepControl {
   int easy_iterations = 4;   // a step converging in at most this many iterations lets dt grow
   double growth = 1.5, cutback = 0.5;
   int max_steps = 100000;
-  // Each step starts from a prediction of its state: 0: the last converged state; 1: the secant through
-  // the last two converged states; 2: the parabola through the last three (the secant while fewer exist).
+  // Each step starts from a prediction of its state: the polynomial of this degree in t through the last
+  // predictor_order + 1 converged states, evaluated at the new t (0: the last converged state; 1: the secant;
+  // 2: the parabola; 3: the cubic), of a lower degree while fewer states exist.
   int predictor_order = 1;
   // A failure below dt_min after at least one converged step ends the run as Outcome::limit_point
   // instead of Outcome::failed (displacement-driven pull-off: the path turns back in t there).
@@ -40,11 +43,14 @@ class LoadStepping final : public ContinuationMethod {
   // Path state carried between steps (and across a restart).
   double t_ = 0, t_prev_ = 0, dt_ = 0;
   int steps_ = 0;
-  double t_prev2_ = 0;
-  Eigen::VectorXd q_prev_, q_prev2_;
-  bool have_prev_ = false, have_prev2_ = false, restored_ = false;
+  // The converged states before the current one, the latest first (at most predictor_order of them).
+  std::vector<double> t_past_;
+  std::vector<Eigen::VectorXd> q_past_;
+  bool restored_ = false;
   // The predicted state at t_new from q (at t_) and the stored converged states.
   Eigen::VectorXd predict(const Eigen::VectorXd& q, double t_new) const;
+  // Keeps q (at t_) as the latest past state before the step to t_new is taken.
+  void remember(Eigen::VectorXd& q);
 };
 
 }  // namespace fibrane::solve

@@ -1,12 +1,14 @@
 #include "path/nonlinear.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
 
 #include "common/format.hpp"
+#include "path/local_correction.hpp"
 
 namespace fibrane::solve {
 
@@ -76,7 +78,8 @@ class NewtonIteration {
     solver_.begin_step();
     for (int it = 0;; ++it) {
       const bool with_tangent = !reuse_ && !expect_converged_;
-      const double norm = evaluate(it, with_tangent);
+      double norm = evaluate(it, with_tangent);
+      if (local_pending_) norm = keep_or_undo_local(it, norm);
       rep_.residual_norm = norm;
       rep_.history.push_back(norm);
       if (opt_.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t_, it, norm);
@@ -91,6 +94,7 @@ class NewtonIteration {
       previous_norm_ = norm;
       rep_.failure = give_up_.check(rep_.history, scale_);
       if (!rep_.failure.empty()) return rep_;
+      if (it == 0 && with_tangent && opt_.local_share > 0 && !sys_.distributed() && local_step(it)) continue;
       // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
       // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
       // tangent (one more evaluation, now with the tangent).
@@ -103,7 +107,12 @@ class NewtonIteration {
       // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
       // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
       // factorisation is tried at once.
-      if (fresh) reuse_ = opt_.reuse_below > 0 && (it > 0 ? contraction <= opt_.reuse_below : opt_.reuse_first);
+      // After a kept local update that cut |r| by 4, the fresh factorisation is reused too: the local update
+      // did the global one's first work, and its own contraction says nothing of Newton's rate.
+      if (fresh)
+        reuse_ = opt_.reuse_below > 0 && (local_kept_ ? contraction <= 0.25
+                                                      : it > 0 ? contraction <= opt_.reuse_below : opt_.reuse_first);
+      local_kept_ = false;
       expect_converged_ = it > 0 && fresh && norm * contraction * contraction <= tolerance();
     }
   }
@@ -184,6 +193,44 @@ class NewtonIteration {
 
   // Solves for the update with the current factorisation and applies it; false, with the report's
   // failure, for a non-finite update.
+  // The first update on the rows where |r| concentrates (NewtonOptions::local_share); false where it cannot
+  // be made (a factorisation that fails, rows that are most of the unknowns): the iterate then takes the
+  // global update.
+  bool local_step(int it) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<int> rows = local_rows(sys_.residual(), sys_.tangent(), {.share = opt_.local_share});
+    if (2 * rows.size() > static_cast<std::size_t>(q_.size())) return false;
+    Eigen::VectorXd dq;
+    if (!local_update(sys_.residual(), sys_.tangent(), sys_.symmetric(), rows, dq)) return false;
+    q_ += dq;
+    last_update_ = std::move(dq);
+    applied_ = 1.0;
+    small_update_ = false;
+    rep_.iterations = it + 1;
+    ++rep_.local_updates;
+    local_pending_ = true;
+    if (opt_.verbose)
+      std::fprintf(stderr, "  newton t=%.6g it=%d local update on %zu rows (%.3f s)\n", t_, it, rows.size(),
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return true;
+  }
+
+  // |r| after a local update, or, where it did not fall below the last (or is not finite), the update taken
+  // back and |r| of the iterate before it, evaluated again with its tangent.
+  double keep_or_undo_local(int it, double norm) {
+    local_pending_ = false;
+    local_kept_ = norm < previous_norm_;
+    if (local_kept_) return norm;
+    q_ -= applied_ * last_update_;
+    applied_ = 0.0;
+    sys_.evaluate(q_, t_, true);
+    const double back = residual_norm(sys_);
+    if (opt_.verbose)
+      std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e after the local update: taken back, |r|=%.6e\n", t_, it,
+                   norm, back);
+    return back;
+  }
+
   bool update(int it) {
     const Eigen::VectorXd dq = solver_.solve_to(-sys_.residual(), forcing_term(opt_, rep_.history, scale_));
     if (!dq.allFinite()) {
@@ -221,6 +268,8 @@ class NewtonIteration {
   // bending example's steps mostly end inside reused factorisations, residual-only already: its count of
   // tangents did not change.)
   bool expect_converged_ = false;
+  bool local_pending_ = false;  // the last update was local: the next evaluation keeps or undoes it
+  bool local_kept_ = false;     // the last update was local and kept
 };
 
 }  // namespace

@@ -78,6 +78,13 @@ struct NewtonOptions {
   // update already lands in the fast regime (a good predictor) and its second factorisation would be
   // spent on a contraction the first one gives as well.
   bool reuse_first = false;
+  // Local first update (0: off): a solve's first update with a tangent solves only on the rows where its
+  // residual concentrates, grown through the tangent's graph to this share of the unknowns
+  // (path/local_correction.hpp), and its next iterate gets the global factorisation. An update that does
+  // not lower |r| is taken back, and the first iterate then takes Newton's global update. With
+  // reuse_below, the factorisation after a kept local update that cut |r| by 4 is reused from the next
+  // update on (under the reuse rule). Not in distributed systems (their tangent is one process's summand).
+  double local_share = 0;
   // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
   // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term
   // eta = 0.9 (|r_k| / |r_k-1|)^2 (forcing_max for the first update), at most forcing_max, and never
@@ -96,6 +103,7 @@ struct NewtonReport {
   int iterations = 0;          // number of linear solves (updates of q)
   int backtracks = 0;          // halvings of updates by the line search
   int factorizations = 0;      // updates with a fresh factorisation (the others reused one)
+  int local_updates = 0;       // of the updates, local ones (NewtonOptions::local_share), taken back or not
   double residual_norm = 0;    // at the last evaluation
   std::vector<double> history; // ||r|| at every evaluation, the first before any update
   std::string failure;         // empty when converged

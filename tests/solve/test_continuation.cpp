@@ -246,36 +246,67 @@ TEST(Continuation, QuadraticPredictorFollowsAParabolicPathExactly) {
   EXPECT_GT(iterations[1], 5);
 }
 
+// r = q - (a t + b t^2 + c t^3): the path is a cubic in t. The cubic predictor reproduces it exactly from the
+// fourth step on, also across the steps whose size grows; the quadratic predictor leaves an O(dt^3)
+// residual at every step.
+TEST(Continuation, CubicPredictorFollowsACubicPathExactly) {
+  const Eigen::Vector2d a(1.0, -2.0), b(3.0, 0.5), c(-1.5, 2.0);
+  auto path = [&](double t) -> Eigen::VectorXd { return a * t + b * t * t + c * t * t * t; };
+  int iterations[4];
+  for (int order : {2, 3}) {
+    testing::ToySystem cubic(
+        2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return q - path(t); },
+        [](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return Eigen::MatrixXd::Identity(2, 2); },
+        [&](const Eigen::VectorXd&, double t) -> Eigen::VectorXd { return -(a + 2 * t * b + 3 * t * t * c); });
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
+    StepControl sc;
+    sc.dt_initial = 0.05;
+    sc.dt_max = 0.2;
+    sc.predictor_order = order;
+    const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(cubic, q, *solver, nullptr);
+    ASSERT_TRUE(res.completed());
+    EXPECT_GE(res.steps, 7);
+    EXPECT_LT((q - path(1.0)).norm(), 1e-12);
+    iterations[order] = res.total_iterations;
+  }
+  EXPECT_EQ(iterations[3], 3);  // the first step (no predictor), the second (secant), the third (parabola)
+  EXPECT_GT(iterations[2], 5);
+}
+
 // A run stopped after three steps and continued by a fresh LoadStepping from save() / restore() takes the
 // same steps with the same predictions as the uninterrupted run: the same iterations and the same end state
 // to round-off (both compute the same operations; the tolerance allows for a different summation order).
-TEST(Continuation, QuadraticPredictorContinuesAfterARestart) {
-  StepControl sc;
-  sc.dt_initial = sc.dt_max = 0.1;
-  sc.predictor_order = 2;
-  auto run = [&](bool interrupted) {
-    SpringNetwork truss = make_truss();
-    auto solver = make_linear_solver("auto", true);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(truss.size());
-    LoadStepping first(sc, NewtonOptions{});
-    ContinuationResult res = first.run(truss, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
-      return !interrupted || rep.step < 3;
-    });
-    int iterations = res.total_iterations;
-    if (interrupted) {
-      EXPECT_EQ(res.outcome, Outcome::stopped);
-      LoadStepping second(sc, NewtonOptions{});
-      second.restore(first.save());
-      res = second.run(truss, q, *solver, nullptr);
-      iterations += res.total_iterations;
-    }
-    EXPECT_TRUE(res.completed());
-    return std::make_pair(iterations, Eigen::VectorXd(q));
-  };
-  const auto [whole_iterations, whole_q] = run(false);
-  const auto [resumed_iterations, resumed_q] = run(true);
-  EXPECT_EQ(resumed_iterations, whole_iterations);
-  EXPECT_LT((resumed_q - whole_q).norm(), 1e-12 * whole_q.norm());
+TEST(Continuation, PredictorsContinueAfterARestart) {
+  for (int order : {2, 3}) {
+    SCOPED_TRACE(order);
+    StepControl sc;
+    sc.dt_initial = sc.dt_max = 0.1;
+    sc.predictor_order = order;
+    auto run = [&](bool interrupted) {
+      SpringNetwork truss = make_truss();
+      auto solver = make_linear_solver("auto", true);
+      Eigen::VectorXd q = Eigen::VectorXd::Zero(truss.size());
+      LoadStepping first(sc, NewtonOptions{});
+      ContinuationResult res = first.run(truss, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
+        return !interrupted || rep.step < 4;
+      });
+      int iterations = res.total_iterations;
+      if (interrupted) {
+        EXPECT_EQ(res.outcome, Outcome::stopped);
+        LoadStepping second(sc, NewtonOptions{});
+        second.restore(first.save());
+        res = second.run(truss, q, *solver, nullptr);
+        iterations += res.total_iterations;
+      }
+      EXPECT_TRUE(res.completed());
+      return std::make_pair(iterations, Eigen::VectorXd(q));
+    };
+    const auto [whole_iterations, whole_q] = run(false);
+    const auto [resumed_iterations, resumed_q] = run(true);
+    EXPECT_EQ(resumed_iterations, whole_iterations);
+    EXPECT_LT((resumed_q - whole_q).norm(), 1e-12 * whole_q.norm());
+  }
 }
 
 TEST(Continuation, InvalidStepControlIsAnInputError) {

@@ -1,0 +1,84 @@
+#include "path/local_correction.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "linalg/linear_solver.hpp"
+
+namespace fibrane::solve {
+
+std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k,
+                            const LocalRowsOptions& options) {
+  const int n = static_cast<int>(r.size());
+  std::vector<char> in(static_cast<std::size_t>(n), 0);
+  std::vector<int> frontier;
+  const double level = options.seed_level * r.cwiseAbs().maxCoeff();
+  for (int i = 0; i < n; ++i)
+    if (std::abs(r[i]) >= level && level > 0) {
+      in[static_cast<std::size_t>(i)] = 1;
+      frontier.push_back(i);
+    }
+  std::size_t count = frontier.size();
+  const double wanted = options.share * n;
+  // Breadth first through k's columns: each layer adds the rows coupled to the last one's.
+  for (int layer = 0; layer < options.max_layers && static_cast<double>(count) < wanted && !frontier.empty();
+       ++layer) {
+    std::vector<int> next;
+    for (const int j : frontier)
+      for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) {
+        const auto i = static_cast<std::size_t>(it.row());
+        if (!in[i]) {
+          in[i] = 1;
+          next.push_back(static_cast<int>(i));
+        }
+      }
+    count += next.size();
+    frontier.swap(next);
+  }
+  std::vector<int> rows;
+  rows.reserve(count);
+  for (int i = 0; i < n; ++i)
+    if (in[static_cast<std::size_t>(i)]) rows.push_back(i);
+  return rows;
+}
+
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k, bool symmetric,
+                  const std::vector<int>& rows, Eigen::VectorXd& dq) {
+  const int m = static_cast<int>(rows.size());
+  if (m == 0) return false;
+  std::vector<int> local(static_cast<std::size_t>(k.rows()), -1);
+  for (int a = 0; a < m; ++a) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(a)])] = a;
+  // K_SS column by column: the rows of each of S's columns that lie in S keep k's row order, which the
+  // sorted `rows` map to increasing local indices.
+  Eigen::SparseMatrix<double> kss(m, m);
+  std::vector<int> column_start(static_cast<std::size_t>(m) + 1, 0);
+  for (int a = 0; a < m; ++a) {
+    int entries = 0;
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, rows[static_cast<std::size_t>(a)]); it; ++it)
+      entries += local[static_cast<std::size_t>(it.row())] >= 0;
+    column_start[static_cast<std::size_t>(a) + 1] = column_start[static_cast<std::size_t>(a)] + entries;
+  }
+  kss.resizeNonZeros(column_start.back());
+  std::copy(column_start.begin(), column_start.end(), kss.outerIndexPtr());
+  for (int a = 0; a < m; ++a) {
+    int p = column_start[static_cast<std::size_t>(a)];
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, rows[static_cast<std::size_t>(a)]); it; ++it) {
+      const int i = local[static_cast<std::size_t>(it.row())];
+      if (i < 0) continue;
+      kss.innerIndexPtr()[p] = i;
+      kss.valuePtr()[p++] = it.value();
+    }
+  }
+  Eigen::VectorXd rs(m);
+  for (int a = 0; a < m; ++a) rs[a] = r[rows[static_cast<std::size_t>(a)]];
+  auto solver = make_linear_solver("auto", symmetric);
+  solver->analyze(kss);
+  if (!solver->factorize(kss)) return false;
+  const Eigen::VectorXd ds = solver->solve(-rs);
+  if (!ds.allFinite()) return false;
+  dq.setZero(r.size());
+  for (int a = 0; a < m; ++a) dq[rows[static_cast<std::size_t>(a)]] = ds[a];
+  return true;
+}
+
+}  // namespace fibrane::solve

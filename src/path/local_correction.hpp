@@ -1,0 +1,39 @@
+#pragma once
+// A Newton update on part of the unknowns: the rows where a residual concentrates and their neighbours in
+// the tangent's graph, solved with the principal submatrix of the tangent on them.
+//
+// A load step's predicted state is wrong mostly where the path is least smooth: on the bending example the
+// contact front and the loaded fiber's end hold 99.9 % of |r|^2 in a few dozen of 278 k rows. The global
+// Newton update that removes such a residual is itself concentrated there, and the same update on a tenth
+// of the unknowns around it cuts |r| by 30-80 at the cost of a factorisation of that tenth
+// (docs/performance.md, "A local first update"). Newton's first update of a step can be such a local one
+// (NewtonOptions::local_share): the step then factorises the whole tangent once where it did twice.
+//
+// Nonlinear elimination and subspace-correction methods (Cai and Keyes 2002; Lanzkron, Rose and Wilkes
+// 1996) treat a localized nonlinearity the same way; here the subspace is one linear solve, chosen afresh
+// at each step from the residual and the tangent alone: no mesh, no model.
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <vector>
+
+namespace fibrane::solve {
+
+/// The rows of a local update: the seeds (rows whose |r_i| is at least seed_level max|r|) and as many
+/// layers of their neighbours in k's graph as bring the set to `share` of k's rows (the last layer taken
+/// whole), at most max_layers. Sorted. `k` is square and compressed, its pattern structurally symmetric.
+struct LocalRowsOptions {
+  double share = 0.1;
+  double seed_level = 1e-3;
+  int max_layers = 64;
+};
+std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k,
+                            const LocalRowsOptions& options);
+
+/// The update dq with K_SS dq_S = -r_S on the rows S (sorted) and dq = 0 elsewhere, K_SS the principal
+/// submatrix of k on S, factorised by make_linear_solver("auto", symmetric) (LL^T, then LDL^T where it is
+/// indefinite; an LU for an unsymmetric k). False, dq untouched, where the factorisation fails or the
+/// update is not finite.
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k, bool symmetric,
+                  const std::vector<int>& rows, Eigen::VectorXd& dq);
+
+}  // namespace fibrane::solve

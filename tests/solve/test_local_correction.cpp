@@ -1,0 +1,161 @@
+// The local first update (path/local_correction.hpp): the rows it chooses, the update it solves, and
+// Newton with it (NewtonOptions::local_share): the same solution as global Newton, one global
+// factorisation fewer where the residual is local, and an update that raised |r| taken back.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "path/local_correction.hpp"
+#include "path/nonlinear.hpp"
+#include "linalg/linear_solver.hpp"
+#include "solve/grid_matrix.hpp"
+#include "solve/toy_systems.hpp"
+
+namespace fibrane::solve {
+namespace {
+
+// A chain of n unknowns: springs of stiffness 1 between neighbours (the two ends held), a soft ground of
+// stiffness `ground` under every unknown (decay length of a point load's response 1 / sqrt(ground)), and
+// at unknown `hard` a cubic spring beta q^3 loaded by t: r = (L + ground I) q + beta q_h^3 e_h - t e_h.
+// The tangent is tridiagonal, so the local rows grow by one neighbour on each side per layer.
+class Chain : public NonlinearSystem {
+ public:
+  Chain(int n, int hard, double ground, double beta) : n_(n), hard_(hard), ground_(ground), beta_(beta) {
+    std::vector<Eigen::Triplet<double>> t;
+    for (int i = 0; i < n; ++i) {
+      t.emplace_back(i, i, 2.0 + ground);
+      if (i > 0) t.emplace_back(i, i - 1, -1.0);
+      if (i + 1 < n) t.emplace_back(i, i + 1, -1.0);
+    }
+    linear_.resize(n, n);
+    linear_.setFromTriplets(t.begin(), t.end());
+    k_ = linear_;
+  }
+  int size() const override { return n_; }
+  void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override {
+    r_ = linear_ * q;
+    r_[hard_] += beta_ * q[hard_] * q[hard_] * q[hard_] - t;
+    if (with_tangent) k_.coeffRef(hard_, hard_) = linear_.coeff(hard_, hard_) + 3 * beta_ * q[hard_] * q[hard_];
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 0; }
+
+ private:
+  int n_, hard_;
+  double ground_, beta_;
+  Eigen::SparseMatrix<double> linear_, k_;
+  Eigen::VectorXd r_;
+};
+
+Eigen::SparseMatrix<double> chain_tangent(int n) {
+  Chain chain(n, n / 2, 0.01, 0.0);
+  chain.evaluate(Eigen::VectorXd::Zero(n), 0.0, true);
+  return chain.tangent();
+}
+
+TEST(LocalRows, SeedsGrowByLayersOfTheGraphUntilTheyHoldTheShare) {
+  const Eigen::SparseMatrix<double> k = chain_tangent(400);
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(400);
+  r[200] = 1.0;
+  r[300] = 1e-4;  // below the seed level (1e-3 of the largest entry): no seed
+  // 40 rows wanted: each layer adds one row on each side, so 20 layers give 200 +- 20 (41 rows).
+  const std::vector<int> rows = local_rows(r, k, {.share = 0.1});
+  ASSERT_EQ(rows.size(), 41u);
+  for (int a = 0; a < 41; ++a) EXPECT_EQ(rows[static_cast<std::size_t>(a)], 180 + a);
+  // A lower seed level takes row 300 as a seed too, whose layers grow beside the first ones.
+  const std::vector<int> both = local_rows(r, k, {.share = 0.1, .seed_level = 1e-5});
+  EXPECT_EQ(both.size(), 42u);  // 10 layers around each: 2 x 21
+  EXPECT_TRUE(std::binary_search(both.begin(), both.end(), 300));
+  // The layer cap ends the growth below the share.
+  EXPECT_EQ(local_rows(r, k, {.share = 0.1, .max_layers = 3}).size(), 7u);
+}
+
+// K_SS dq_S = -r_S on the rows, zero elsewhere: symmetric (LL^T) and unsymmetric (LU) tangents.
+TEST(LocalUpdate, SolvesThePrincipalSubmatrixOnTheRows) {
+  for (const double convection : {0.0, 0.4}) {
+    SCOPED_TRACE(convection);
+    const Eigen::SparseMatrix<double> k = grid_matrix(30, 0.1, convection, 0.2, 3);
+    Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(900, -1.0, 2.0);
+    std::vector<int> rows;
+    for (int i = 0; i < 900; i += 3) rows.push_back(i);
+    Eigen::VectorXd dq;
+    ASSERT_TRUE(local_update(r, k, convection == 0.0, rows, dq));
+    const Eigen::VectorXd kdq = k * dq;
+    double largest = 0;
+    for (int i = 0; i < 900; ++i) {
+      const bool on = std::binary_search(rows.begin(), rows.end(), i);
+      if (on)
+        largest = std::max(largest, std::abs(kdq[i] + r[i]));
+      else
+        EXPECT_EQ(dq[i], 0.0);
+    }
+    // Backward error of a direct solve of a matrix of condition ~1e2 with entries of ~4: round-off.
+    EXPECT_LT(largest, 1e-12 * r.cwiseAbs().maxCoeff());
+  }
+}
+
+TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
+  Eigen::SparseMatrix<double> k = chain_tangent(50);
+  for (int i = 10; i < 13; ++i)  // rows and columns 10..12 emptied: K_SS singular where S holds them
+    for (int j = 0; j < 50; ++j)
+      if (k.coeff(i, j) != 0.0) k.coeffRef(i, j) = k.coeffRef(j, i) = 0.0;
+  Eigen::VectorXd dq = Eigen::VectorXd::Constant(50, 7.0);
+  EXPECT_FALSE(local_update(Eigen::VectorXd::Ones(50), k, true, {9, 10, 11, 12, 13}, dq));
+  EXPECT_EQ(dq, Eigen::VectorXd::Constant(50, 7.0));
+}
+
+// A load step on the chain: from the converged state at t = 1 to t = 1.2. The step's residual is the load
+// increment at the cubic spring, felt over ~1 / sqrt(0.04) = 5 unknowns: the local update on 200 +- 50 is
+// Newton's first update but for e^-10 of its tails, so the solve then takes plain Newton's global updates:
+// one factorisation fewer, the same solution to the tolerance.
+TEST(NewtonLocalFirstUpdate, ReachesGlobalNewtonsSolutionWithOneFactorisationFewer) {
+  Chain chain(401, 200, 0.04, 20.0);
+  NewtonOptions options;
+  options.tol_relative = 1e-12;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(401);
+  ASSERT_TRUE(newton_solve(chain, start, 1.0, options, *solver).converged);
+  NewtonReport reports[2];
+  Eigen::VectorXd solutions[2];
+  for (int local : {0, 1}) {
+    options.local_share = local ? 0.25 : 0.0;
+    Eigen::VectorXd q = start;
+    reports[local] = newton_solve(chain, q, 1.2, options, *solver);
+    ASSERT_TRUE(reports[local].converged) << reports[local].failure;
+    solutions[local] = q;
+  }
+  EXPECT_EQ(reports[0].local_updates, 0);
+  EXPECT_EQ(reports[1].local_updates, 1);
+  EXPECT_GE(reports[0].factorizations, 3);  // the cubic spring: a few updates to 1e-12
+  EXPECT_EQ(reports[1].factorizations, reports[0].factorizations - 1);
+  EXPECT_EQ(reports[1].iterations, reports[0].iterations);
+  // Both stop at |r| <= 1e-12 |r_0| (|r_0| = 0.2) and the tangent's smallest eigenvalue is >= 0.04.
+  EXPECT_LT((solutions[1] - solutions[0]).cwiseAbs().maxCoeff(), 1e-11);
+}
+
+// K = [1 2; 2 5], r = K q - [1, 0] from q = 0: the seed is row 0 alone, whose local update (dq_0 = 1) leaves
+// r = [0, 2]: |r| doubled. Newton takes it back and solves globally from q = 0 (exactly: the system is
+// linear), with the one global factorisation.
+TEST(NewtonLocalFirstUpdate, AnUpdateThatRaisesTheResidualIsTakenBack) {
+  Eigen::Matrix2d k;
+  k << 1, 2, 2, 5;
+  testing::ToySystem linear(
+      2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return k * q - t * Eigen::Vector2d(1, 0); },
+      [&](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return k; },
+      [](const Eigen::VectorXd&, double) -> Eigen::VectorXd { return -Eigen::Vector2d(1, 0); });
+  auto solver = make_linear_solver("auto", true);
+  NewtonOptions options;
+  options.local_share = 0.1;
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
+  const NewtonReport report = newton_solve(linear, q, 1.0, options, *solver);
+  ASSERT_TRUE(report.converged);
+  EXPECT_EQ(report.local_updates, 1);
+  EXPECT_EQ(report.factorizations, 1);
+  ASSERT_EQ(report.history.size(), 3u);  // |r_0| = 1, the same iterate evaluated again, then converged
+  EXPECT_EQ(report.history[1], 1.0);
+  EXPECT_LT((q - Eigen::Vector2d(5, -2)).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace fibrane::solve
