@@ -1,6 +1,10 @@
 #pragma once
 // Test helpers: run a case (an example file, optionally edited, or YAML text) in a fresh temporary
 // directory through the library, and read its history.csv back as columns.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -58,6 +62,23 @@ inline History read_history(const std::filesystem::path& csv) {
     for (std::string v; std::getline(row, v, ','); ++k) h[names.at(k)].push_back(std::stod(v));
   }
   return h;
+}
+
+// Every column of `b` equals `a`'s within tolerance(name, scale), scale being the column's largest magnitude
+// in `a`; the columns that depend on how the solves went (iterations, residual, negative_eigenvalues) are
+// left out. For comparing two solver paths to the same converged steps.
+inline void expect_same_columns(const History& a, const History& b,
+                                const std::function<double(const std::string&, double)>& tolerance) {
+  ASSERT_EQ(a.at("t").size(), b.at("t").size()) << "steps";
+  for (const auto& [name, column] : a) {
+    if (name == "iterations" || name == "residual" || name == "negative_eigenvalues") continue;
+    double scale = 0, worst = 0;
+    for (std::size_t i = 0; i < column.size(); ++i) {
+      scale = std::max(scale, std::abs(column[i]));
+      worst = std::max(worst, std::abs(column[i] - b.at(name)[i]));
+    }
+    EXPECT_LE(worst, tolerance(name, scale)) << name;
+  }
 }
 
 struct CaseRun {

@@ -69,7 +69,7 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   ASSERT_TRUE(local.run.summary.result.completed()) << local.run.summary.result.message;
   const History& a = global.run.history;
   const History& b = local.run.history;
-  ASSERT_EQ(a.at("t"), b.at("t")) << "the same steps";
+  EXPECT_EQ(a.at("t"), b.at("t")) << "the same steps";
   // Newton accepts a state at the tolerance or at its round-off floor (~1e-7 to 1e-6 here, the `residual`
   // column): a force imbalance of that size. Displacements and energies then agree to ~1e-8 of their
   // largest magnitude, checked to 1e-6 (a step converged to another state, a soft point switching
@@ -78,16 +78,9 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   double accepted = 0;
   for (const History* h : {&a, &b})
     for (const double r : h->at("residual")) accepted = std::max(accepted, r);
-  for (const auto& [name, column] : a) {
-    if (name == "iterations" || name == "residual" || name == "negative_eigenvalues") continue;
-    double scale = 0, worst = 0;
-    for (std::size_t i = 0; i < column.size(); ++i) {
-      scale = std::max(scale, std::abs(column[i]));
-      worst = std::max(worst, std::abs(column[i] - b.at(name)[i]));
-    }
-    const bool force = name.rfind("adhesion_force", 0) == 0;
-    EXPECT_LE(worst, force ? 10 * accepted : 1e-6 * scale) << name;
-  }
+  expect_same_columns(a, b, [accepted](const std::string& name, double scale) {
+    return name.rfind("adhesion_force", 0) == 0 ? 10 * accepted : 1e-6 * scale;
+  });
   // About one factorisation per step where the global path takes two (measured: 43 and 82 for 40 steps).
   EXPECT_LT(local.factorizations, 0.6 * global.factorizations);
 

@@ -2,6 +2,8 @@
 // below dt_min, step-size control, reuse of the symbolic analysis, the predictors and their restart.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <cmath>
 
 #include "common/error.hpp"
@@ -218,60 +220,47 @@ TEST(Continuation, SecantPredictorSavesIterations) {
   EXPECT_LT(iterations[1], iterations[0]);
 }
 
+// Load stepping from t = 0 to 1 on r = q - path(t) (r_t = -path'(t)) with the given predictor order, the
+// steps growing from 0.05 to 0.2 (0.05, 0.075, 0.1125, 0.169, 0.2, ...): Newton's iterations in all. The
+// end state must be the path's.
+int iterations_along(const std::function<Eigen::VectorXd(double)>& path,
+                     const std::function<Eigen::VectorXd(double)>& slope, int order) {
+  testing::ToySystem system(
+      2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return q - path(t); },
+      [](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return Eigen::MatrixXd::Identity(2, 2); },
+      [&](const Eigen::VectorXd&, double t) -> Eigen::VectorXd { return -slope(t); });
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
+  StepControl sc;
+  sc.dt_initial = 0.05;
+  sc.dt_max = 0.2;
+  sc.predictor_order = order;
+  const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(system, q, *solver, nullptr);
+  EXPECT_TRUE(res.completed());
+  EXPECT_GE(res.steps, 7);
+  EXPECT_LT((q - path(1.0)).norm(), 1e-12);
+  return res.total_iterations;
+}
+
 // r = q - (a t + b t^2): the path is a parabola in t. The quadratic predictor reproduces it exactly from
 // the third step on (Newton's first residual is round-off, below the tolerance: no update), also across
 // the steps whose size grows; the secant predictor leaves an O(dt^2) residual at every step.
 TEST(Continuation, QuadraticPredictorFollowsAParabolicPathExactly) {
   const Eigen::Vector2d a(1.0, -2.0), b(3.0, 0.5);
   auto path = [&](double t) -> Eigen::VectorXd { return a * t + b * t * t; };
-  int iterations[3];
-  for (int order : {1, 2}) {
-    testing::ToySystem parabola(
-        2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return q - path(t); },
-        [](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return Eigen::MatrixXd::Identity(2, 2); },
-        [&](const Eigen::VectorXd&, double t) -> Eigen::VectorXd { return -(a + 2 * t * b); });
-    auto solver = make_linear_solver("auto", true);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
-    StepControl sc;
-    sc.dt_initial = 0.05;
-    sc.dt_max = 0.2;
-    sc.predictor_order = order;
-    const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(parabola, q, *solver, nullptr);
-    ASSERT_TRUE(res.completed());
-    EXPECT_GE(res.steps, 7);  // 0.05, 0.075, 0.1125, 0.169, 0.2, ...: sizes grow, then stay
-    EXPECT_LT((q - path(1.0)).norm(), 1e-12);
-    iterations[order] = res.total_iterations;
-  }
-  EXPECT_EQ(iterations[2], 2);  // the first step (no predictor) and the second (secant)
-  EXPECT_GT(iterations[1], 5);
+  auto slope = [&](double t) -> Eigen::VectorXd { return a + 2 * t * b; };
+  EXPECT_EQ(iterations_along(path, slope, 2), 2);  // the first step (no predictor) and the second (secant)
+  EXPECT_GT(iterations_along(path, slope, 1), 5);
 }
 
-// r = q - (a t + b t^2 + c t^3): the path is a cubic in t. The cubic predictor reproduces it exactly from the
-// fourth step on, also across the steps whose size grows; the quadratic predictor leaves an O(dt^3)
-// residual at every step.
+// r = q - (a t + b t^2 + c t^3): the cubic predictor reproduces it exactly from the fourth step on; the
+// quadratic predictor leaves an O(dt^3) residual at every step.
 TEST(Continuation, CubicPredictorFollowsACubicPathExactly) {
   const Eigen::Vector2d a(1.0, -2.0), b(3.0, 0.5), c(-1.5, 2.0);
   auto path = [&](double t) -> Eigen::VectorXd { return a * t + b * t * t + c * t * t * t; };
-  int iterations[4];
-  for (int order : {2, 3}) {
-    testing::ToySystem cubic(
-        2, [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd { return q - path(t); },
-        [](const Eigen::VectorXd&, double) -> Eigen::MatrixXd { return Eigen::MatrixXd::Identity(2, 2); },
-        [&](const Eigen::VectorXd&, double t) -> Eigen::VectorXd { return -(a + 2 * t * b + 3 * t * t * c); });
-    auto solver = make_linear_solver("auto", true);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(2);
-    StepControl sc;
-    sc.dt_initial = 0.05;
-    sc.dt_max = 0.2;
-    sc.predictor_order = order;
-    const ContinuationResult res = LoadStepping(sc, NewtonOptions{}).run(cubic, q, *solver, nullptr);
-    ASSERT_TRUE(res.completed());
-    EXPECT_GE(res.steps, 7);
-    EXPECT_LT((q - path(1.0)).norm(), 1e-12);
-    iterations[order] = res.total_iterations;
-  }
-  EXPECT_EQ(iterations[3], 3);  // the first step (no predictor), the second (secant), the third (parabola)
-  EXPECT_GT(iterations[2], 5);
+  auto slope = [&](double t) -> Eigen::VectorXd { return a + 2 * t * b + 3 * t * t * c; };
+  EXPECT_EQ(iterations_along(path, slope, 3), 3);  // no predictor, the secant, the parabola
+  EXPECT_GT(iterations_along(path, slope, 2), 5);
 }
 
 // A run stopped after three steps and continued by a fresh LoadStepping from save() / restore() takes the
