@@ -239,7 +239,12 @@ std::optional<std::vector<int>> Model::skew_candidates() const {
 }
 
 void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
+  evaluate_elements(q, t, with_tangent, nullptr);
+}
+
+void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");
+  if (rows && distribution_) throw std::logic_error("Model: a partial evaluation in a distributed run");
   using clock = std::chrono::steady_clock;
   auto lap = [last = clock::now()](double& into) mutable {
     const auto now = clock::now();
@@ -271,8 +276,10 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   status_ = Status{};
   external_.setZero(dofs.size());
   const State s = state();
+  const std::vector<char> meets = rows ? elements_meeting(*rows) : std::vector<char>();
+  const std::vector<char>* only = rows ? &meets : nullptr;
   for (auto& e : entries_) {
-    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, distribution_ ? &owned_ : nullptr,
+    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, distribution_ ? &owned_ : only,
                      distribution_);
     if (e.contribution->energy_kind() == EnergyKind::external) sink.record_external(&external_, &e.dofs);
     energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
@@ -280,6 +287,10 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   }
   assembler_.end(distribution_);
   if (distribution_) agree(with_tangent);
+  if (rows) {
+    lap(times_.other);
+    return;
+  }
   // The reference force level for Newton's relative tolerance: external loads, or, for problems driven by
   // prescribed displacements, the reactions they cause.
   double reaction_sq = 0.0;

@@ -92,6 +92,8 @@ class Model : public solve::TransientSystem {
   void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override;
   const Eigen::VectorXd& residual() const override { return assembler_.reduced_residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
+  // Serial: only the elements whose free unknowns meet `rows` (model_local.cpp); distributed: evaluate().
+  void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) override;
   bool tangent_finite() const override;
   Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const override;
   bool distributed() const override { return distribution_ && distribution_->size() > 1; }
@@ -166,6 +168,11 @@ class Model : public solve::TransientSystem {
   // evaluate() at a state with a non-finite unknown or time (an overflowing step): no contribution is
   // evaluated (their kernels would throw or spread NaN), the state is invalid, residual and tangent are zero.
   void evaluate_non_finite(bool with_tangent);
+  // evaluate() of the elements whose free unknowns meet `rows` (all where null; serial runs only). A
+  // partial evaluation keeps the last load scale and round-off floor.
+  void evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows);
+  // Per assembler element id (fixed, then variable): whether its free unknowns meet `rows` (model_local.cpp).
+  std::vector<char> elements_meeting(const std::vector<int>& rows) const;
   State state() const { return {u_, t_, dofs, functions}; }
   std::vector<Entry> entries_;
   std::vector<std::unique_ptr<Interaction>> interactions_;

@@ -77,7 +77,8 @@ class NewtonIteration {
   NewtonReport run() {
     solver_.begin_step();
     for (int it = 0;; ++it) {
-      const bool with_tangent = !reuse_ && !expect_converged_;
+      // A local first update assembles its own part of the tangent (local_step).
+      const bool with_tangent = !reuse_ && !expect_converged_ && !(it == 0 && local_first());
       double norm = evaluate(it, with_tangent);
       if (local_pending_) norm = keep_or_undo_local(it, norm);
       rep_.residual_norm = norm;
@@ -94,7 +95,7 @@ class NewtonIteration {
       previous_norm_ = norm;
       rep_.failure = give_up_.check(rep_.history, scale_);
       if (!rep_.failure.empty()) return rep_;
-      if (it == 0 && with_tangent && opt_.local_share > 0 && !sys_.distributed() && local_step(it)) continue;
+      if (it == 0 && local_first() && local_step(it)) continue;
       // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
       // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
       // tangent (one more evaluation, now with the tangent).
@@ -196,12 +197,22 @@ class NewtonIteration {
   // The first update on the rows where |r| concentrates (NewtonOptions::local_share); false where it cannot
   // be made (a factorisation that fails, rows that are most of the unknowns): the iterate then takes the
   // global update.
+  bool local_first() const { return opt_.local_share > 0 && !sys_.distributed(); }
+
+  // The first update on the rows where |r| concentrates (NewtonOptions::local_share), from the tangent's
+  // entries on those rows alone (NonlinearSystem::evaluate_tangent_on; the rows grow through the pattern
+  // of the tangent last assembled); false where it cannot be made (a factorisation that fails, rows that
+  // are most of the unknowns): the iterate then takes the global update.
   bool local_step(int it) {
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<int> rows = local_rows(sys_.residual(), sys_.tangent(), {.share = opt_.local_share});
+    const Eigen::SparseMatrix<double>& pattern = sys_.tangent();
+    if (pattern.rows() != q_.size() || pattern.cols() != q_.size()) return false;
+    const Eigen::VectorXd r = sys_.residual();
+    const std::vector<int> rows = local_rows(r, pattern, {.share = opt_.local_share});
     if (2 * rows.size() > static_cast<std::size_t>(q_.size())) return false;
+    sys_.evaluate_tangent_on(q_, t_, rows);
     Eigen::VectorXd dq;
-    if (!local_update(sys_.residual(), sys_.tangent(), sys_.symmetric(), rows, dq)) return false;
+    if (!local_update(r, sys_.tangent(), sys_.symmetric(), rows, dq)) return false;
     q_ += dq;
     last_update_ = std::move(dq);
     applied_ = 1.0;

@@ -23,6 +23,13 @@ class NonlinearSystem {
   // summand: the tangent is the sum of the processes' matrices, which only a distributed LinearSolver
   // factorises as a whole (src/parallel).
   virtual const Eigen::SparseMatrix<double>& tangent() const = 0;
+  // Evaluates at (q, t) what the tangent's entries with row and column among `rows` (sorted unknowns) need,
+  // and may leave out the rest: afterwards tangent()'s principal submatrix on `rows` is the whole
+  // evaluation's, while residual() and the other entries are unspecified until the next evaluate().
+  // Systems that cannot restrict their work evaluate everything (the default).
+  virtual void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& /*rows*/) {
+    evaluate(q, t, true);
+  }
   // Whether every entry of the tangent is finite; the same answer on every process.
   virtual bool tangent_finite() const;
   // The tangent times x (x and the product replicated on every process).
@@ -78,9 +85,10 @@ struct NewtonOptions {
   // update already lands in the fast regime (a good predictor) and its second factorisation would be
   // spent on a contraction the first one gives as well.
   bool reuse_first = false;
-  // Local first update (0: off): a solve's first update with a tangent solves only on the rows where its
-  // residual concentrates, grown through the tangent's graph to this share of the unknowns
-  // (path/local_correction.hpp), and its next iterate gets the global factorisation. An update that does
+  // Local first update (0: off): a solve's first update solves only on the rows where its residual
+  // concentrates, grown through the tangent's graph to this share of the unknowns
+  // (path/local_correction.hpp), with the tangent's entries on those rows alone
+  // (NonlinearSystem::evaluate_tangent_on), and its next iterate gets the global factorisation. An update that does
   // not lower |r| is taken back, and the first iterate then takes Newton's global update. With
   // reuse_below, the factorisation after a kept local update that cut |r| by 4 is reused from the next
   // update on (under the reuse rule). Not in distributed systems (their tangent is one process's summand).

@@ -7,6 +7,8 @@
 
 #include "case_runner.hpp"
 #include "linalg/linear_solver.hpp"
+#include "model/model.hpp"
+#include "path/local_correction.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -84,6 +86,49 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   // About one factorisation per step where the global path takes two (measured: 43 and 82 for 40 steps).
   EXPECT_LT(local.factorizations, 0.6 * global.factorizations);
 
+}
+
+// The partial evaluation behind the local update (Model::evaluate_tangent_on): at the bending example's
+// state after 5 steps (fiber in contact), the principal submatrix on the local rows of that state's
+// residual is the full evaluation's, bit for bit (the same element matrices added in the same order,
+// one thread), while entries away from the rows are left out.
+TEST(LocalFirstUpdate, PartialEvaluationGivesThePrincipalSubmatrix) {
+  auto r = run_yaml("local-update-partial", example_text("bending.yaml", {
+      {"elements: [100, 100]", "elements: [16, 16]"},
+      {"elements: 400", "elements: 64"},
+      {"t_end: 1.0", "t_end: 0.1"},
+      {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
+  ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
+  model::Model& m = *r.c.model;
+  const Eigen::VectorXd q = r.summary.q;
+  const double t = r.summary.result.t_reached;
+  m.evaluate(q, t, true);
+  const Eigen::SparseMatrix<double> whole = m.tangent();
+  // The rows a local update would take at the next step's predicted state: here those of a residual
+  // concentrated at the fiber's end (its last control point's four unknowns are the seeds).
+  Eigen::VectorXd seeds = Eigen::VectorXd::Zero(m.size());
+  for (int i = 0; i < 4; ++i) seeds[m.size() - 1 - i] = 1.0;
+  const std::vector<int> rows = solve::local_rows(seeds, whole, {.share = 0.1});
+  ASSERT_GT(rows.size(), 50u);
+  m.evaluate_tangent_on(q, t, rows);
+  const Eigen::SparseMatrix<double>& part = m.tangent();
+  std::vector<char> in(static_cast<std::size_t>(m.size()), 0);
+  for (const int i : rows) in[static_cast<std::size_t>(i)] = 1;
+  long compared = 0, left_out = 0;
+  for (int j = 0; j < whole.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(whole, j); it; ++it) {
+      if (in[static_cast<std::size_t>(it.row())] && in[static_cast<std::size_t>(j)]) {
+        ASSERT_EQ(part.coeff(it.row(), j), it.value()) << it.row() << ", " << j;
+        ++compared;
+      } else if (part.coeff(it.row(), j) != it.value()) {
+        ++left_out;
+      }
+    }
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(left_out, compared);  // most of the shell's elements were not evaluated
+  // A full evaluation afterwards is the first one again.
+  m.evaluate(q, t, true);
+  EXPECT_EQ((m.tangent() - whole).norm(), 0.0);
 }
 
 }  // namespace
