@@ -5,7 +5,7 @@
 // A load step's predicted state is wrong mostly where the path is least smooth: on the bending example the
 // contact front and the loaded fiber's end hold 99.9 % of |r|^2 in a few dozen of 278 k rows. The global
 // Newton update that removes such a residual is itself concentrated there, and the same update on a tenth
-// of the unknowns around it cuts |r| by 30-80 at the cost of a factorisation of that tenth
+// of the unknowns around it cuts |r| by ~35 (median) at the cost of a factorisation of that tenth
 // (docs/performance.md, "A local first update"). Newton's first update of a step can be such a local one
 // (NewtonOptions::local_share): the step then factorises the whole tangent once where it did twice.
 //

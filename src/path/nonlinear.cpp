@@ -192,11 +192,7 @@ class NewtonIteration {
     return true;
   }
 
-  // Solves for the update with the current factorisation and applies it; false, with the report's
-  // failure, for a non-finite update.
-  // The first update on the rows where |r| concentrates (NewtonOptions::local_share); false where it cannot
-  // be made (a factorisation that fails, rows that are most of the unknowns): the iterate then takes the
-  // global update.
+  // Whether a solve's first update is local (NewtonOptions::local_share).
   bool local_first() const { return opt_.local_share > 0 && !sys_.distributed(); }
 
   // The first update on the rows where |r| concentrates (NewtonOptions::local_share), from the tangent's
@@ -242,6 +238,8 @@ class NewtonIteration {
     return back;
   }
 
+  // Solves for the update with the current factorisation and applies it; false, with the report's
+  // failure, for a non-finite update.
   bool update(int it) {
     const Eigen::VectorXd dq = solver_.solve_to(-sys_.residual(), forcing_term(opt_, rep_.history, scale_));
     if (!dq.allFinite()) {
