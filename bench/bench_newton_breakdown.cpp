@@ -179,7 +179,9 @@ int run_bench(int argc, char** argv) {
   fmt::print("| solve per iteration | {:.2f} ms |\n", solver.solve_ * per);
   fmt::print("| everything but factorisation / factorisation | {:.3f} |\n",
              solver.factorize_ > 0 ? not_factorisation / solver.factorize_ : 0.0);
-  fmt::print("| residual-only evaluations | {} |\n", pt.evaluations - pt.tangents);
+  fmt::print("| residual-only evaluations | {} |\n", pt.evaluations - pt.tangents - pt.partial_tangents);
+  fmt::print("| evaluations with part of the tangent (local first updates; their times in the rows above) | {} |\n",
+             pt.partial_tangents);
   fmt::print("| updates of converged steps / factorisations (reuse {}) | {} / {} |\n", c.run.newton.reuse_below,
              updates, solver.factorizations);
   fmt::print("| assembly buffers at the end | {:.1f} MiB |\n", m.assembly_buffer_bytes() / 1048576.0);

@@ -252,7 +252,7 @@ void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tang
     last = now;
   };
   ++times_.evaluations;
-  if (with_tangent) ++times_.tangents;
+  if (with_tangent) ++(rows ? times_.partial_tangents : times_.tangents);
   t_ = t;
   u_ = constraints.expand(q, t, curve_eval());
   if (!u_.allFinite() || !std::isfinite(t)) {

@@ -33,7 +33,9 @@ namespace fibrane::model {
 // Wall time spent in each phase of evaluate(), accumulated (seconds), for bench/ and the summary.
 struct PhaseTimes {
   double shell = 0, beam = 0, projection = 0, interaction = 0, pattern = 0, other = 0;
-  int evaluations = 0, tangents = 0, pattern_rebuilds = 0;
+  // tangents: evaluations with the whole tangent; partial_tangents: with the tangent of the elements a
+  // local first update needs (evaluate_tangent_on), their times counted in the phases above as well.
+  int evaluations = 0, tangents = 0, partial_tangents = 0, pattern_rebuilds = 0;
 };
 
 class Model : public solve::TransientSystem {

@@ -88,10 +88,12 @@ struct NewtonOptions {
   // Local first update (0: off): a solve's first update solves only on the rows where its residual
   // concentrates, grown through the tangent's graph to this share of the unknowns
   // (path/local_correction.hpp), with the tangent's entries on those rows alone
-  // (NonlinearSystem::evaluate_tangent_on), and its next iterate gets the global factorisation. An update that does
-  // not lower |r| is taken back, and the first iterate then takes Newton's global update. With
+  // (NonlinearSystem::evaluate_tangent_on); its next iterate gets the global factorisation. An update
+  // that does not lower |r| is taken back, and the first iterate then takes Newton's global update. With
   // reuse_below, the factorisation after a kept local update that cut |r| by 4 is reused from the next
-  // update on (under the reuse rule). Not in distributed systems (their tangent is one process's summand).
+  // update on (under the reuse rule). Where no local update can be made (rows that would be half the
+  // unknowns or more, a failed factorisation), the first iterate is evaluated once more, with its tangent.
+  // Not in distributed systems (their tangent is one process's summand).
   double local_share = 0;
   // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
   // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term

@@ -110,7 +110,10 @@ TEST(LocalFirstUpdate, PartialEvaluationGivesThePrincipalSubmatrix) {
   for (int i = 0; i < 4; ++i) seeds[m.size() - 1 - i] = 1.0;
   const std::vector<int> rows = solve::local_rows(seeds, whole, {.share = 0.1});
   ASSERT_GT(rows.size(), 50u);
+  const model::PhaseTimes before = m.times();
   m.evaluate_tangent_on(q, t, rows);
+  EXPECT_EQ(m.times().partial_tangents, before.partial_tangents + 1);
+  EXPECT_EQ(m.times().tangents, before.tangents);
   const Eigen::SparseMatrix<double>& part = m.tangent();
   std::vector<char> in(static_cast<std::size_t>(m.size()), 0);
   for (const int i : rows) in[static_cast<std::size_t>(i)] = 1;
