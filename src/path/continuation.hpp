@@ -63,6 +63,9 @@ struct ContinuationResult {
   int steps = 0;
   int total_iterations = 0;  // including failed attempts
   int failed_attempts = 0;   // attempts that did not converge (each retried smaller, or the run's end)
+  // Newton's local first updates (NewtonOptions::local_share; load stepping only), failed attempts' and
+  // those taken back included
+  int local_updates = 0;
   std::string message;
   // Completed runs: the end, a stop rule, or a limit point the case declared acceptable.
   bool completed() const { return outcome == Outcome::reached_end || outcome == Outcome::stopped ||

@@ -133,6 +133,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
       q_trial = predict(q, t_new);
       newton = newton_solve(sys, q_trial, t_new, newton_, solver);
       res.total_iterations += newton.iterations;
+      res.local_updates += newton.local_updates;
       if (newton.converged) break;
       if (newton_.verbose)
         std::fprintf(stderr, "step at t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try,

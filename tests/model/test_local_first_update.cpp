@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include "case_runner.hpp"
 #include "linalg/linear_solver.hpp"
@@ -85,7 +87,14 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   });
   // About one factorisation per step where the global path takes two (measured: 43 and 82 for 40 steps).
   EXPECT_LT(local.factorizations, 0.6 * global.factorizations);
-
+  // summary.json's `local_updates`: one per attempt at a step (no first iterate converges at once here),
+  // none on the global path.
+  const solve::ContinuationResult& res = local.run.summary.result;
+  EXPECT_EQ(res.local_updates, res.steps + res.failed_attempts);
+  EXPECT_EQ(global.run.summary.result.local_updates, 0);
+  std::ifstream json(local.run.directory / "summary.json");
+  const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"local_updates\": " + std::to_string(res.local_updates) + ","), std::string::npos) << text;
 }
 
 // The partial evaluation behind the local update (Model::evaluate_tangent_on): at the bending example's
