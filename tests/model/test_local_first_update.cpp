@@ -62,7 +62,7 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
       {"elements: [100, 100]", "elements: [16, 16]"},
       {"elements: 400", "elements: 64"},
       {"dt: 0.01", "dt: 0.025"},
-      {"dt_max: 0.03", "dt_max: 0.025"},
+      {"dt_max: 0.04", "dt_max: 0.025"},
       {"tolerance_absolute: 1.0e-4", "tolerance_absolute: 1.0e-8"},
       {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}};
   auto global_edits = coarse;
