@@ -246,6 +246,12 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     if (node->has("predictor")) (*node)["predictor"].fail_message("a predictor needs extrapolate: true");
     s.predictor_order = 0;
   }
+  // Model events (a point switching to the soft minimum) are crossed in steps of at most this share of
+  // the load range (path/event_locator.hpp); 0 (the default): wherever the steps fall.
+  s.event_tolerance = number_in(*node, "event_tolerance", 0.0, INFINITY, false, true, 0.0) * (s.t_end - s.t_start);
+  if (node->has("event_tolerance") && run.method != "load_stepping")
+    (*node)["event_tolerance"].fail_message("applies to method: load_stepping (the arc-length and dynamics steps "
+                                            "cross events wherever they fall)");
   read_newton(run.newton, *node);
   if (node->has("local_first_update") && run.method != "load_stepping")
     (*node)["local_first_update"].fail_message("applies to method: load_stepping (the arc-length corrector and "

@@ -118,9 +118,14 @@ class Contribution {
   virtual bool update(const State& /*s*/) { return false; }
   // Adds the residual (and the tangent if sink.with_tangent()) and returns the energy.
   virtual double evaluate(const State& s, ElementSink& sink, Status& status) = 0;
-  // After a converged step at state s; after a failed attempt.
+  // After a converged step at state s; after a failed attempt; after a converged attempt that is
+  // discarded (solve::NonlinearSystem::withdraw: like a failed one, without learning from it).
   virtual void accept(const State& /*s*/) {}
   virtual void reject() {}
+  virtual void withdraw() { reject(); }
+  // Events (solve::NonlinearSystem::event_margins): the margins of the last evaluation's state to the
+  // contribution's events, the same number at every evaluation (empty: none).
+  virtual std::vector<double> event_margins() const { return {}; }
   // Restart support: the state kept between steps (what accept() committed), as numbers, and its
   // restoration into a contribution built from the same case (InputError if the numbers do not fit).
   // Empty: the contribution keeps no such state.

@@ -176,6 +176,11 @@ void Coupling::reject() {
   std::fill(jump_.begin(), jump_.end(), 0.0);
 }
 
+void Coupling::withdraw() {
+  last_ = warm_;
+  std::fill(jump_.begin(), jump_.end(), 0.0);
+}
+
 std::string Coupling::failure_hint() const {
   if (failed_jumps_.empty()) return {};
   std::string xi;

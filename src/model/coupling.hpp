@@ -64,6 +64,12 @@ class Coupling final : public Interaction {
   void accept(const State& s) override;
   // After a failed attempt (the step is cut back): back to the last converged step's projections.
   void reject() override;
+  // After a discarded converged attempt: the same, without switching the points that jumped in it.
+  void withdraw() override;
+  // With the soft minimum, one event per beam point, its switch: the relative curvature of its closest
+  // point at the last evaluation minus `below` (+infinity where it is not interior, NaN once soft). A
+  // point switches at the accept() after a converged step where it is <= 0.
+  std::vector<double> event_margins() const override;
   // Closest points that jumped in the last failed attempt: moved by more than kJump d in one evaluation
   // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.

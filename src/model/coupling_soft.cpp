@@ -2,6 +2,7 @@
 // which beam points switch to it, their windows on the shell, the continuity offset at the switch, the
 // pattern elements they share, and their evaluation.
 #include <algorithm>
+#include <limits>
 
 #include "common/overlap_groups.hpp"
 #include "common/parallel_errors.hpp"
@@ -107,7 +108,7 @@ void Coupling::request_soft_switches() {
     if (p.where != interaction::ShellProximity::Projection::Where::interior) continue;
     const Eigen::Vector2d theta(p.u, p.v);
     if (soft_of_[i] < 0) {
-      if (p.relative_curvature < soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
+      if (p.relative_curvature <= soft_below_) soft_requests_.emplace_back(static_cast<int>(i), theta);
     } else {
       const SoftPoint& sp = soft_[soft_of_[i]];
       const double moved = ((theta - sp.centre).array().abs() / sp.window.half_extent.array()).maxCoeff();
@@ -116,6 +117,17 @@ void Coupling::request_soft_switches() {
     }
   }
   if (!soft_requests_.empty()) soft_requests_.insert(soft_requests_.end(), along.begin(), along.end());
+}
+
+std::vector<double> Coupling::event_margins() const {
+  if (soft_width_ <= 0) return {};
+  std::vector<double> margins(quad_.size(), std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < quad_.size(); ++i)
+    if (soft_of_[i] >= 0)
+      margins[i] = std::numeric_limits<double>::quiet_NaN();
+    else if (projection_[i].where == interaction::ShellProximity::Projection::Where::interior)
+      margins[i] = projection_[i].relative_curvature - soft_below_;
+  return margins;
 }
 
 double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, bool& bad) {

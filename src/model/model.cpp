@@ -336,6 +336,19 @@ void Model::reject() {
   for (auto& e : entries_) e.contribution->reject();
 }
 
+void Model::withdraw() {
+  for (auto& e : entries_) e.contribution->withdraw();
+}
+
+std::vector<double> Model::event_margins() const {
+  std::vector<double> margins;
+  for (const auto& e : entries_) {
+    const std::vector<double> own = e.contribution->event_margins();
+    margins.insert(margins.end(), own.begin(), own.end());
+  }
+  return margins;
+}
+
 std::string Model::failure_hint() const {
   std::string hint;
   for (const auto& e : entries_)

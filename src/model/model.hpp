@@ -104,6 +104,8 @@ class Model : public solve::TransientSystem {
   std::string invalid_state() const override { return status_.valid ? std::string() : status_.reason; }
   void accept(const Eigen::VectorXd& q, double t) override;
   void reject() override;
+  void withdraw() override;
+  std::vector<double> event_margins() const override;  // the contributions' events in their order
   // Restart support: the state every contribution keeps between steps (Contribution::save_state), keyed
   // "<evaluation index> <name>", and its restoration into a model built from the same case, which also
   // rebuilds the variable contributions' elements. InputError if the keys do not match this model's.

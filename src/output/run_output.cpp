@@ -271,6 +271,7 @@ void RunOutput::write_summary(const model::Model& m, const solve::ContinuationRe
   j.set("message", result.message);
   j.set("t_reached", result.t_reached).set("steps", result.steps).set("newton_iterations", result.total_iterations);
   j.set("failed_attempts", result.failed_attempts).set("local_updates", result.local_updates);
+  j.set("withdrawn_attempts", result.withdrawn_attempts);
   j.set("wall_seconds", wall_seconds).set("linear_solver", solver_name);
   io::JsonValue monitors = io::JsonValue::object();
   for (const auto& mon : m.monitors) monitors.set(mon->name(), mon->value(m));

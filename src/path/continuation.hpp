@@ -66,6 +66,9 @@ struct ContinuationResult {
   // Newton's local first updates (NewtonOptions::local_share; load stepping only), failed attempts' and
   // those taken back included
   int local_updates = 0;
+  // Converged attempts discarded because they crossed a model event in a step longer than the event
+  // tolerance (load stepping: StepControl::event_tolerance), each retried shorter
+  int withdrawn_attempts = 0;
   std::string message;
   // Completed runs: the end, a stop rule, or a limit point the case declared acceptable.
   bool completed() const { return outcome == Outcome::reached_end || outcome == Outcome::stopped ||

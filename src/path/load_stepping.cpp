@@ -17,11 +17,16 @@ void check_step_control(const StepControl& sc) {
 }
 
 LoadStepping::LoadStepping(StepControl control, NewtonOptions newton)
-    : control_(control), newton_(std::move(newton)) {
+    : control_(control),
+      newton_(std::move(newton)),
+      events_(control.event_tolerance > 0 ? std::max(control.event_tolerance, 2 * control.dt_min) : 0.0) {
   check_step_control(control_);
 }
 
 namespace {
+// A predictor of degree 2 or more uses past states spanning at least this share of the step it predicts.
+constexpr double kSpanForCurvature = 0.5;
+
 // The checkpoint's keys of the k-th past state (0: the latest): t_prev, q_prev, t_prev2, q_prev2, ...
 std::string past_key(const char* what, std::size_t k) {
   return std::string(what) + "_prev" + (k == 0 ? std::string() : std::to_string(k + 1));
@@ -40,6 +45,7 @@ MethodState LoadStepping::save() const {
     if (k > 0) s[past_key("t", k)] = {t_past_[k]};
     s[past_key("q", k)] = std::vector<double>(q_past_[k].data(), q_past_[k].data() + q_past_[k].size());
   }
+  events_.save(s);
   return s;
 }
 
@@ -56,11 +62,15 @@ void LoadStepping::restore(const MethodState& s) {
       t_past_.push_back(k == 0 ? t_prev_ : s.at(past_key("t", k)).at(0));
       q_past_.emplace_back(Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size())));
     }
+  events_.restore(s);
   restored_ = true;
 }
 
 Eigen::VectorXd LoadStepping::predict(const Eigen::VectorXd& q, double t_new) const {
-  const std::size_t m = std::min(static_cast<std::size_t>(std::max(control_.predictor_order, 0)), q_past_.size());
+  std::size_t m = std::min(static_cast<std::size_t>(std::max(control_.predictor_order, 0)), q_past_.size());
+  // A parabola or cubic through states much closer together than the step (after the short steps at an
+  // event) would extrapolate their round-off and the kink of a model change: such states are left out.
+  while (m >= 2 && t_ - t_past_[m - 1] < kSpanForCurvature * (t_new - t_)) --m;
   if (m == 0) return q;
   if (m == 1)  // secant: q(t_new) ~ q + (q - q_prev) dt / dt_prev
     return q + (q - q_past_[0]) * ((t_new - t_) / (t_ - t_past_[0]));
@@ -123,8 +133,11 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
       res.message = "stopped after max_steps = " + std::to_string(sc.max_steps) + " steps";
       return res;
     }
-    double dt_try = std::min(dt_, sc.t_end - t_);
+    const double dt_plan = std::min(dt_, sc.t_end - t_);
+    double dt_try = events_.step(t_, dt_plan);
+    bool shortened = dt_try < dt_plan;  // for an event ahead: the planned dt_ stands for the steps after it
     int cutbacks = 0;
+    std::vector<double> margins;
     NewtonReport newton;
     Eigen::VectorXd q_trial;
     double t_new = t_;
@@ -134,7 +147,17 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
       newton = newton_solve(sys, q_trial, t_new, newton_, solver);
       res.total_iterations += newton.iterations;
       res.local_updates += newton.local_updates;
-      if (newton.converged) break;
+      if (newton.converged) {
+        margins = sys.event_margins();
+        if (!events_.withdraw(t_, t_new, margins)) break;
+        if (newton_.verbose)
+          std::fprintf(stderr, "step at t=%.6g dt=%.3g crossed an event: withdrawn, shorter\n", t_new, dt_try);
+        sys.withdraw();
+        ++res.withdrawn_attempts;
+        dt_try = events_.step(t_, dt_plan);
+        shortened = true;
+        continue;
+      }
       if (newton_.verbose)
         std::fprintf(stderr, "step at t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try,
                      newton.failure.c_str());
@@ -159,9 +182,13 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     res.t_reached = t_;
     steps_ = ++res.steps;
     // Grow only after an easy step taken at full size; after a cut-back continue with the size that worked.
-    dt_ = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? std::min(dt_try * sc.growth, sc.dt_max)
-                                                                     : dt_try;
+    if (!(shortened && cutbacks == 0))
+      dt_ = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? std::min(dt_try * sc.growth, sc.dt_max)
+                                                                       : dt_try;
+    // A located event changes the model at this state: the step after it starts shorter.
+    if (events_.located(margins)) dt_ = std::max(dt_ * sc.cutback, sc.dt_min);
     sys.accept(q, t_);
+    events_.accepted(t_, sys.event_margins());
     StepReport report;
     report.step = res.steps;
     report.t = t_;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "path/continuation.hpp"
+#include "path/event_locator.hpp"
 
 namespace fibrane::solve {
 
@@ -21,6 +22,9 @@ struct StepControl {
   // A failure below dt_min after at least one converged step ends the run as Outcome::limit_point
   // instead of Outcome::failed (displacement-driven pull-off: the path turns back in t there).
   bool stop_at_limit_point = false;
+  // The model's events (NonlinearSystem::event_margin) are crossed in steps at most this long, at least
+  // 2 dt_min (path/event_locator.hpp); 0: a step crosses them wherever the steps fall.
+  double event_tolerance = 0;
 };
 
 // Throws InputError unless dt_initial, dt_min, dt_max > 0, 0 < cutback < 1, growth >= 1, t_end >= t_start.
@@ -31,6 +35,7 @@ class LoadStepping final : public ContinuationMethod {
   LoadStepping(StepControl control, NewtonOptions newton);
   std::string name() const override { return "load_stepping"; }
   // On Newton failure q is restored and the step retried with dt * cutback; below dt_min the run stops.
+  // A converged step that crosses an event in more than event_tolerance is withdrawn and retried shorter.
   // Never steps past t_end.
   ContinuationResult run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                          const StepCallback& on_step) override;
@@ -47,6 +52,7 @@ class LoadStepping final : public ContinuationMethod {
   std::vector<double> t_past_;
   std::vector<Eigen::VectorXd> q_past_;
   bool restored_ = false;
+  EventLocator events_;
   // The predicted state at t_new from q (at t_) and the stored converged states.
   Eigen::VectorXd predict(const Eigen::VectorXd& q, double t_new) const;
   // Keeps q (at t_) as the latest past state before the step to t_new is taken.

@@ -51,6 +51,16 @@ class NonlinearSystem {
   virtual std::optional<std::vector<int>> skew_candidates() const { return std::nullopt; }
   virtual void accept(const Eigen::VectorXd& /*q*/, double /*t*/) {}  // converged step (history update)
   virtual void reject() {}  // failed attempt: state that depends on past evaluations returns to the last step
+  // A converged attempt that the continuation discards (it went past an event by more than the event
+  // tolerance): like reject(), but without what a failed attempt teaches the system (e.g. switches).
+  virtual void withdraw() { reject(); }
+  // Events: changes of the model itself after a converged step (a beam point switching to the soft
+  // minimum). The margins of the last evaluate()'s state to each possible event, a fixed number of them:
+  // > 0 before it, <= 0 at or past it (it then happens at accept()), smooth in the state where the
+  // event's criterion is; +infinity where an event has no margin now, NaN once it has happened. Empty
+  // for a system without events. Load stepping locates where they cross 0 (StepControl::event_tolerance),
+  // so that each change happens at the same state whatever the steps.
+  virtual std::vector<double> event_margins() const { return {}; }
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
   // The round-off floor of the residual at the last evaluate() with the tangent: the size of the residual
   // that rounding the current configuration to double precision alone causes, eps * sqrt(sum_ij

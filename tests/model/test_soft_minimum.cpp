@@ -134,5 +134,32 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
   EXPECT_LT(r.history.at("shell_corner_uz").back(), r.history.at("end_uz").back() - 0.5);
 }
 
+// A point switches after the converged step where its criterion first holds, so the state it switches at,
+// and the path after it, follow the steps; with steps.event_tolerance the switching step is at most that
+// long and begins at the crossing to that tolerance. 40x10x10 with steps of up to 0.03 and 0.05 (one
+// soft point, no failed attempts; ~5 s each on one thread): end_uz 8.5e-6 (relative) apart without
+// location, 5.5e-7 with 1e-3. The bound is the measured gap at 1e-3 of the load times the unlocated gap per
+// 0.02 of load (the steps' mean overshoot), with a factor 4 for the solver path's round-off.
+TEST(SoftMinimum, LocatedSwitchesMakeTheEndIndependentOfTheSteps) {
+  auto run = [](const std::string& dt_max, const std::string& tolerance) {
+    const auto r = run_yaml("bending-located", example_text("bending.yaml", {
+        {"elements: [100, 100]", "elements: [10, 10]"},
+        {"elements: 400", "elements: 40"},
+        {"  dt_max: 0.04\n", "  dt_max: " + dt_max + "\n  event_tolerance: " + tolerance + "\n"},
+        {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}), 1);
+    EXPECT_TRUE(r.summary.result.completed()) << r.summary.result.message;
+    EXPECT_EQ(r.summary.result.failed_attempts, 0);
+    EXPECT_EQ(r.c.model->interactions_of<model::Coupling>()[0]->soft_points(), 1);
+    if (tolerance == "0") EXPECT_EQ(r.summary.result.withdrawn_attempts, 0);
+    return r.history.at("end_uz").back();
+  };
+  const double free_short = run("0.03", "0"), free_long = run("0.05", "0");
+  const double located_short = run("0.03", "1.0e-3"), located_long = run("0.05", "1.0e-3");
+  const double located_gap = std::abs(located_long - located_short) / std::abs(located_short);
+  const double free_gap = std::abs(free_long - free_short) / std::abs(free_short);
+  EXPECT_LT(located_gap, 8.5e-6 * (1e-3 / 0.02) * 4);
+  EXPECT_GT(free_gap, 4 * located_gap);
+}
+
 }  // namespace
 }  // namespace fibrane::testing

@@ -1,0 +1,170 @@
+// Event location in load stepping (StepControl::event_tolerance, path/event_locator.hpp): a model that
+// changes after the converged step at which an event's margin is <= 0 first changes within the tolerance
+// of the margin's crossing, whatever the steps; without location it changes where the steps fall.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "path/load_stepping.hpp"
+
+namespace fibrane::solve {
+namespace {
+
+// q = t until a converged state where g = 0.5 - q - q^2 <= 0 (q >= (sqrt 3 - 1) / 2 at the crossing);
+// from that state (q_s) on, 2 q - t - q_s = 0, continuous there: q(1) = (1 + q_s) / 2 depends on where the
+// switch happens, as a soft-minimum point's later path depends on the state it switched at. A second
+// event, g = 0.8 - q, changes nothing and crosses later; both end NaN once they have happened.
+class SwitchingLine final : public NonlinearSystem {
+ public:
+  SwitchingLine() : r_(1), k_(1, 1) { k_.insert(0, 0) = 1.0; }
+  int size() const override { return 1; }
+  void evaluate(const Eigen::VectorXd& q, double t, bool) override {
+    q_ = q[0];
+    r_[0] = switched_ ? 2 * q_ - t - q_switch_ : q_ - t;
+    k_.coeffRef(0, 0) = switched_ ? 2.0 : 1.0;
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 0; }
+  std::vector<double> event_margins() const override {
+    return {switched_ ? NAN : 0.5 - q_ - q_ * q_, second_ ? NAN : 0.8 - q_};
+  }
+  void accept(const Eigen::VectorXd& q, double) override {
+    const std::vector<double> g = event_margins();
+    if (g[0] <= 0) switched_ = true, q_switch_ = q[0];
+    if (g[1] <= 0) second_ = true, q_second_ = q[0];
+  }
+  void withdraw() override { ++withdrawn; }
+  double q_switch() const { return q_switch_; }
+  double q_second() const { return q_second_; }
+  int withdrawn = 0;
+
+ private:
+  double q_ = 0, q_switch_ = NAN, q_second_ = NAN;
+  bool switched_ = false, second_ = false;
+  Eigen::VectorXd r_;
+  Eigen::SparseMatrix<double> k_;
+};
+
+const double kCrossing = 0.5 * (std::sqrt(3.0) - 1.0);
+
+struct LineRun {
+  ContinuationResult result;
+  double q_end, q_switch, q_second;
+  int withdrawn;
+};
+
+// A run to t = 1 with steps of up to dt_max; stopped after `stop_after` steps and continued by a fresh
+// LoadStepping from save() / restore() where that is > 0.
+LineRun run(double dt_max, double tolerance, int stop_after = 0) {
+  StepControl sc;
+  sc.dt_initial = sc.dt_max = dt_max;
+  sc.event_tolerance = tolerance;
+  SwitchingLine line;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  LoadStepping first(sc, NewtonOptions{});
+  ContinuationResult res = first.run(line, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
+    return stop_after == 0 || rep.step < stop_after;
+  });
+  if (stop_after > 0 && res.outcome == Outcome::stopped) {
+    const int withdrawn = res.withdrawn_attempts, iterations = res.total_iterations;
+    LoadStepping second(sc, NewtonOptions{});
+    second.restore(first.save());
+    res = second.run(line, q, *solver, nullptr);
+    res.withdrawn_attempts += withdrawn;
+    res.total_iterations += iterations;
+  }
+  EXPECT_TRUE(res.completed()) << res.message;
+  return {res, q[0], line.q_switch(), line.q_second(), line.withdrawn};
+}
+
+// With a tolerance the switch happens at the first converged state past the crossing, at most one
+// tolerance past it (the crossing step is at most that long), for steps of 0.03 to 0.3; the event is
+// located, withdrawn attempts are counted, and q(1) follows ((1 + q_s) / 2 on this line).
+TEST(EventLocation, TheSwitchHappensWithinTheToleranceWhateverTheSteps) {
+  constexpr double tol = 1e-3;
+  for (double dt_max : {0.03, 0.07, 0.1, 0.3}) {
+    SCOPED_TRACE(dt_max);
+    const LineRun r = run(dt_max, tol);
+    EXPECT_GE(r.q_switch, kCrossing);
+    EXPECT_LE(r.q_switch, kCrossing + tol);
+    // The second event on the switched line 2 q = t + q_s: g = 0.8 - q crosses at t = 1.6 - q_s, after
+    // t = 1, so it does not happen.
+    EXPECT_TRUE(std::isnan(r.q_second));
+    EXPECT_NEAR(r.q_end, 0.5 * (1 + r.q_switch), 1e-9);  // Newton's tolerance
+    EXPECT_EQ(r.withdrawn, r.result.withdrawn_attempts);
+    EXPECT_EQ(r.result.failed_attempts, 0);
+  }
+}
+
+// Without location the switch state is the first step end past the crossing: up to a whole step late.
+// The test would pass with location as well only if the steps happened to end near the crossing; with
+// these steps they end 0.034 and 0.134 past it.
+TEST(EventLocation, WithoutToleranceTheSwitchFollowsTheSteps) {
+  EXPECT_NEAR(run(0.1, 0).q_switch - kCrossing, 0.4 - kCrossing, 1e-12);
+  EXPECT_NEAR(run(0.25, 0).q_switch - kCrossing, 0.5 - kCrossing, 1e-12);
+  EXPECT_EQ(run(0.25, 0).result.withdrawn_attempts, 0);
+}
+
+// Two events on a line q = t that does not change: g_a = 0.35 - q^2 and g_b = 0.8 - q. Each is located on
+// its own, from its own margins: the earlier one's location does not hide the later one.
+TEST(EventLocation, EachEventIsLocatedOnItsOwn) {
+  class TwoEvents final : public NonlinearSystem {
+   public:
+    TwoEvents() : r_(1), k_(1, 1) { k_.insert(0, 0) = 1.0; }
+    int size() const override { return 1; }
+    void evaluate(const Eigen::VectorXd& q, double t, bool) override { q_ = q[0], r_[0] = q_ - t; }
+    const Eigen::VectorXd& residual() const override { return r_; }
+    const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+    int pattern_version() const override { return 0; }
+    std::vector<double> event_margins() const override {
+      return {a_ ? NAN : 0.35 - q_ * q_, b_ ? NAN : 0.8 - q_};
+    }
+    void accept(const Eigen::VectorXd& q, double) override {
+      if (!a_ && 0.35 - q[0] * q[0] <= 0) a_ = true, qa = q[0];
+      if (!b_ && 0.8 - q[0] <= 0) b_ = true, qb = q[0];
+    }
+    double qa = NAN, qb = NAN;
+
+   private:
+    double q_ = 0;
+    bool a_ = false, b_ = false;
+    Eigen::VectorXd r_;
+    Eigen::SparseMatrix<double> k_;
+  };
+  for (double dt_max : {0.05, 0.15}) {
+    SCOPED_TRACE(dt_max);
+    TwoEvents two;
+    StepControl sc;
+    sc.dt_initial = sc.dt_max = dt_max;
+    sc.event_tolerance = 1e-3;
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+    EXPECT_TRUE(LoadStepping(sc, NewtonOptions{}).run(two, q, *solver, nullptr).completed());
+    EXPECT_GE(two.qa, std::sqrt(0.35));
+    EXPECT_LE(two.qa, std::sqrt(0.35) + 1e-3);
+    EXPECT_GE(two.qb, 0.8);
+    EXPECT_LE(two.qb, 0.8 + 1e-3);
+  }
+}
+
+// Stopped after any step and continued from the saved state (inside a bracket after a withdrawn attempt
+// too), the run switches at the same state and ends at the same q with the same Newton iterations as the
+// uninterrupted one.
+TEST(EventLocation, ContinuesAfterARestartAtAnyStep) {
+  const LineRun whole = run(0.1, 1e-3);
+  ASSERT_GT(whole.result.withdrawn_attempts, 0);
+  for (int stop = 1; stop < whole.result.steps; ++stop) {
+    SCOPED_TRACE(stop);
+    const LineRun resumed = run(0.1, 1e-3, stop);
+    EXPECT_EQ(resumed.q_switch, whole.q_switch);
+    EXPECT_EQ(resumed.q_end, whole.q_end);
+    EXPECT_EQ(resumed.result.total_iterations, whole.result.total_iterations);
+    EXPECT_EQ(resumed.result.withdrawn_attempts, whole.result.withdrawn_attempts);
+  }
+}
+
+}  // namespace
+}  // namespace fibrane::solve
