@@ -165,7 +165,6 @@ void Coupling::accept(const State& state) {
 }
 
 void Coupling::reject() {
-  last_ = warm_;
   failed_jumps_.clear();
   for (std::size_t i = 0; i < quad_.size(); ++i)
     if (jump_[i] > 0) {
@@ -173,7 +172,7 @@ void Coupling::reject() {
       // The soft minimum exists for this: the retry evaluates the point with it.
       if (soft_width_ > 0 && soft_of_[i] < 0 && warm_[i]) soft_requests_.emplace_back(static_cast<int>(i), *warm_[i]);
     }
-  std::fill(jump_.begin(), jump_.end(), 0.0);
+  withdraw();
 }
 
 void Coupling::withdraw() {

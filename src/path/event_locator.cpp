@@ -86,7 +86,13 @@ void EventLocator::save(MethodState& s) const {
   s["events_far"] = g_far_;
 }
 
-void EventLocator::restore(const MethodState& s) {
+void EventLocator::start(double t) {
+  *this = EventLocator(tolerance_);
+  t_last_ = t_before_ = t_far_ = t;
+}
+
+void EventLocator::restore(const MethodState& s, double t) {
+  start(t);
   const auto it = s.find("events_t");
   if (it == s.end() || it->second.size() != 4) return;
   t_last_ = it->second[0];

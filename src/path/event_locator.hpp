@@ -26,6 +26,8 @@ class EventLocator {
   /// `tolerance`: how far from its crossing (in t) an event may happen; 0 switches location off.
   explicit EventLocator(double tolerance = 0) : tolerance_(tolerance) {}
 
+  /// A run from t with nothing known.
+  void start(double t);
   /// The step to try from t (the last converged state) instead of the planned `dt`.
   double step(double t, double dt) const;
   /// After an attempt from t converged at t_new with margins g: true if it is to be withdrawn (an event
@@ -38,7 +40,8 @@ class EventLocator {
   void accepted(double t, const std::vector<double>& g_next);
 
   void save(MethodState& s) const;
-  void restore(const MethodState& s);  // keys absent (an older checkpoint): nothing known
+  // The state saved at t; without its keys (an older checkpoint) nothing is known but t.
+  void restore(const MethodState& s, double t);
 
  private:
   double tolerance_;

@@ -62,7 +62,7 @@ void LoadStepping::restore(const MethodState& s) {
       t_past_.push_back(k == 0 ? t_prev_ : s.at(past_key("t", k)).at(0));
       q_past_.emplace_back(Eigen::Map<const Eigen::VectorXd>(q.data(), static_cast<Eigen::Index>(q.size())));
     }
-  events_.restore(s);
+  events_.restore(s, t_);
   restored_ = true;
 }
 
@@ -121,6 +121,7 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     steps_ = 0;
     t_past_.clear();
     q_past_.clear();
+    events_.start(t_);
   }
   ContinuationResult res;
   res.t_reached = t_;
@@ -154,7 +155,8 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
           std::fprintf(stderr, "step at t=%.6g dt=%.3g crossed an event: withdrawn, shorter\n", t_new, dt_try);
         sys.withdraw();
         ++res.withdrawn_attempts;
-        dt_try = events_.step(t_, dt_plan);
+        const double shorter = events_.step(t_, dt_plan);  // within the bracket: shorter than the withdrawn
+        dt_try = shorter < dt_try ? shorter : dt_try * sc.cutback;
         shortened = true;
         continue;
       }

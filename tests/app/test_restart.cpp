@@ -211,6 +211,40 @@ TEST(Restart, AcrossASoftMinimumSwitchEqualsTheUninterruptedRun) {
   fs::remove_all(dir);
 }
 
+// The bending example at 40 x 10 x 10 with located switches (steps.event_tolerance 1e-3, dt_max 0.03;
+// about 3 s of CPU per run): after a withdrawn attempt, step 29 ends a shortened step before the crossing
+// and step 30 crosses it in a step of the tolerance. A run stopped after step 29 and restarted carries the
+// bracket and the margins over (LoadStepping's checkpoint keys) and takes the same steps.
+TEST(Restart, InsideALocatedSwitchEqualsTheUninterruptedRun) {
+  if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-located-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: [10, 10]"},
+                                 {"elements: 400", "elements: 40"},
+                                 {"dt_max: 0.04", "dt_max: 0.03\n  event_tolerance: 1.0e-3"},
+                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  }
+  std::ofstream(dir / "case.yaml") << yaml;
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'").exit_code, 0);
+  EXPECT_NE(read_file(dir / "full" / "summary.json").find("\"withdrawn_attempts\": 1,"), std::string::npos);
+  const History full = read_history(dir / "full");
+  ASSERT_GT(full.rows.size(), 31u);
+  ASSERT_EQ(full.columns[1], "t");
+  auto dt = [&](std::size_t step) { return full.rows[step][1] - full.rows[step - 1][1]; };
+  EXPECT_GT(dt(29), 2e-3);               // the shortened step
+  EXPECT_NEAR(dt(30), 1e-3, 1e-12);      // the crossing
+  ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "part").string() + "' --max-steps 29").exit_code, 1);
+  const auto second = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  expect_same_history(dir / "full", dir / "part");
+  fs::remove_all(dir);
+}
+
 TEST(Restart, RefusesAnotherCaseOrAMissingCheckpoint) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
   const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-refuse-" + std::to_string(::getpid()));

@@ -57,7 +57,7 @@ struct LineRun {
 
 // A run to t = 1 with steps of up to dt_max; stopped after `stop_after` steps and continued by a fresh
 // LoadStepping from save() / restore() where that is > 0.
-LineRun run(double dt_max, double tolerance, int stop_after = 0) {
+LineRun run(double dt_max, double tolerance, int stop_after = 0, bool drop_event_keys = false) {
   StepControl sc;
   sc.dt_initial = sc.dt_max = dt_max;
   sc.event_tolerance = tolerance;
@@ -71,7 +71,10 @@ LineRun run(double dt_max, double tolerance, int stop_after = 0) {
   if (stop_after > 0 && res.outcome == Outcome::stopped) {
     const int withdrawn = res.withdrawn_attempts, iterations = res.total_iterations;
     LoadStepping second(sc, NewtonOptions{});
-    second.restore(first.save());
+    MethodState saved = first.save();
+    if (drop_event_keys)
+      for (const char* key : {"events_t", "events_last", "events_before", "events_far"}) EXPECT_EQ(saved.erase(key), 1u);
+    second.restore(saved);
     res = second.run(line, q, *solver, nullptr);
     res.withdrawn_attempts += withdrawn;
     res.total_iterations += iterations;
@@ -163,6 +166,19 @@ TEST(EventLocation, ContinuesAfterARestartAtAnyStep) {
     EXPECT_EQ(resumed.q_end, whole.q_end);
     EXPECT_EQ(resumed.result.total_iterations, whole.result.total_iterations);
     EXPECT_EQ(resumed.result.withdrawn_attempts, whole.result.withdrawn_attempts);
+  }
+}
+
+// A checkpoint without the locator's keys (written before they existed) continues from its t with nothing
+// known: it still ends, and the switch still happens within the tolerance of the crossing.
+TEST(EventLocation, ContinuesFromACheckpointWithoutItsKeys) {
+  const LineRun whole = run(0.1, 1e-3);
+  for (int stop = 1; stop < whole.result.steps; ++stop) {
+    SCOPED_TRACE(stop);
+    const LineRun resumed = run(0.1, 1e-3, stop, true);
+    EXPECT_GE(resumed.q_switch, kCrossing);
+    EXPECT_LE(resumed.q_switch, kCrossing + 1e-3);
+    EXPECT_NEAR(resumed.q_end, 0.5 * (1 + resumed.q_switch), 1e-9);
   }
 }
 
