@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <stdexcept>
 
 #include "restart_util.hpp"
 
@@ -180,25 +181,34 @@ TEST(Restart, SigintWritesAnInterruptedSummaryAndExits130) {
   interrupt_and_restart(SIGINT, 130, "SIGINT");
 }
 
+// A fresh directory holding case.yaml: examples/bending.yaml with the shell's and the fiber's elements,
+// the text after `dt_max: ` and no VTK output.
+fs::path write_bending(const std::string& name, const std::string& shell, const std::string& fiber,
+                       const std::string& dt_max) {
+  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
+  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: " + shell},
+                                 {"elements: 400", "elements: " + fiber},
+                                 {"dt_max: 0.04", "dt_max: " + dt_max},
+                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
+    const auto at = yaml.find(from);
+    if (at == std::string::npos) throw std::runtime_error("examples/bending.yaml lacks '" + from + "'");
+    yaml.replace(at, from.size(), to);
+  }
+  std::ofstream(dir / "case.yaml") << yaml;
+  return dir;
+}
+
 // The bending example at 32 x 8 x 8 (RF2 with the soft minimum; about 5 s of CPU per run): the first
 // beam point switches to the soft minimum in step 32, requested when step 31 was accepted. A run stopped
 // after step 31 and restarted carries the pending switch over, and its history and per-point interaction
 // files equal the uninterrupted run's.
 TEST(Restart, AcrossASoftMinimumSwitchEqualsTheUninterruptedRun) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
-  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-soft-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: [8, 8]"},
-                                 {"elements: 400", "elements: 32"},
-                                 {"dt_max: 0.04", "dt_max: 0.03"},  // the step numbers below are these steps'
-                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
-    const auto at = yaml.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    yaml.replace(at, from.size(), to);
-  }
-  std::ofstream(dir / "case.yaml") << yaml;
+  // The step numbers below are those of steps up to 0.03.
+  const fs::path dir = write_bending("soft", "[8, 8]", "32", "0.03");
   ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'").exit_code, 0);
   ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "part").string() + "' --max-steps 31").exit_code, 1);
   const auto second = run_case(dir / "case.yaml", "--restart '" + (dir / "part").string() + "'");
@@ -217,19 +227,7 @@ TEST(Restart, AcrossASoftMinimumSwitchEqualsTheUninterruptedRun) {
 // bracket and the margins over (LoadStepping's checkpoint keys) and takes the same steps.
 TEST(Restart, InsideALocatedSwitchEqualsTheUninterruptedRun) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
-  const fs::path dir = fs::temp_directory_path() / ("fibrane-restart-located-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::string yaml = read_file(std::string(FIBRANE_SOURCE_DIR) + "/examples/bending.yaml");
-  for (const auto& [from, to] : {std::pair<std::string, std::string>{"elements: [100, 100]", "elements: [10, 10]"},
-                                 {"elements: 400", "elements: 40"},
-                                 {"dt_max: 0.04", "dt_max: 0.03\n  event_tolerance: 1.0e-3"},
-                                 {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}}) {
-    const auto at = yaml.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    yaml.replace(at, from.size(), to);
-  }
-  std::ofstream(dir / "case.yaml") << yaml;
+  const fs::path dir = write_bending("located", "[10, 10]", "40", "0.03\n  event_tolerance: 1.0e-3");
   ASSERT_EQ(run_case(dir / "case.yaml", "-o '" + (dir / "full").string() + "'").exit_code, 0);
   EXPECT_NE(read_file(dir / "full" / "summary.json").find("\"withdrawn_attempts\": 1,"), std::string::npos);
   const History full = read_history(dir / "full");
