@@ -46,23 +46,21 @@ double EventLocator::step(double t, double dt) const {
   return std::min(dt, land);
 }
 
+bool EventLocator::crossed(const std::vector<double>& g) const {
+  for (std::size_t k = 0; k < g.size(); ++k)
+    if (g[k] <= 0 && !(at(g_last_, k) <= 0)) return true;  // NaN before: unknown there (or nothing known yet)
+  return false;
+}
+
 bool EventLocator::withdraw(double t, double t_new, const std::vector<double>& g) {
-  if (!(tolerance_ > 0) || t_new - t <= tolerance_ * (1 + 1e-9)) return false;
-  bool crossed = false;
-  for (std::size_t k = 0; k < g.size() && !crossed; ++k) {
-    const double before = at(g_last_, k);
-    crossed = g[k] <= 0 && !(before <= 0);  // NaN before: unknown there (or nothing known yet)
-  }
-  if (!crossed) return false;
+  if (!(tolerance_ > 0) || t_new - t <= tolerance_ * (1 + 1e-9) || !crossed(g)) return false;
   t_far_ = t_new;
   g_far_ = g;
   near_moves_ = 0;
   return true;
 }
 
-bool EventLocator::located(const std::vector<double>& g) const {
-  return tolerance_ > 0 && std::any_of(g.begin(), g.end(), [](double m) { return m <= 0; });
-}
+bool EventLocator::located(const std::vector<double>& g) const { return tolerance_ > 0 && crossed(g); }
 
 void EventLocator::accepted(double t, const std::vector<double>& g_next) {
   if (!g_far_.empty() && t_far_ > t) {

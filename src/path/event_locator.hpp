@@ -33,7 +33,8 @@ class EventLocator {
   /// After an attempt from t converged at t_new with margins g: true if it is to be withdrawn (an event
   /// crossed in a step longer than the tolerance); it then bounds the bracket.
   bool withdraw(double t, double t_new, const std::vector<double>& g);
-  /// Whether location is on and an event happens at a converged state with margins g.
+  /// Whether location is on and an event crosses in the step to a converged state with margins g (a
+  /// margin <= 0 that was > 0, or unknown, at the last converged state).
   bool located(const std::vector<double>& g) const;
   /// After the step to t is accepted: `g_next` the margins after the system's accept() (NaN for events
   /// that have happened).
@@ -48,6 +49,7 @@ class EventLocator {
   double t_last_ = 0, t_before_ = 0, t_far_ = 0;
   std::vector<double> g_last_, g_before_, g_far_;  // margins at those; empty: none known
   int near_moves_ = 0;                             // steps accepted in a row inside the bracket
+  bool crossed(const std::vector<double>& g) const;
   // The earliest estimated crossing after the last converged state; NaN where none is expected.
   double earliest() const;
 };

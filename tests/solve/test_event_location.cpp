@@ -182,5 +182,53 @@ TEST(EventLocation, ContinuesFromACheckpointWithoutItsKeys) {
   }
 }
 
+// On the path q = t^2 the parabola predictor is exact. After the short steps that locate the event
+// 0.09 - q <= 0 (at t = 0.3), a step longer than twice the span of the last two leaves the oldest state
+// out and predicts by the secant, whose residual at the predicted state is exactly (t2 - t0)(t2 - t1)
+// (t0 < t1 the last two states); every other step starts at round-off.
+TEST(EventLocation, AParabolaLeavesOutStatesBunchedAgainstTheStep) {
+  class Parabola final : public NonlinearSystem {
+   public:
+    Parabola() : r_(1), k_(1, 1) { k_.insert(0, 0) = 1.0; }
+    int size() const override { return 1; }
+    void evaluate(const Eigen::VectorXd& q, double t, bool) override { q_ = q[0], r_[0] = q_ - t * t; }
+    const Eigen::VectorXd& residual() const override { return r_; }
+    const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+    int pattern_version() const override { return 0; }
+    std::vector<double> event_margins() const override { return {0.09 - q_}; }
+
+   private:
+    double q_ = 0;
+    Eigen::VectorXd r_;
+    Eigen::SparseMatrix<double> k_;
+  } path;
+  StepControl sc;
+  sc.dt_initial = sc.dt_max = 0.1;
+  sc.predictor_order = 2;
+  sc.event_tolerance = 1e-3;
+  NewtonOptions newton;
+  newton.tol_absolute = 1e-14;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  std::vector<double> t{0.0}, predicted{0.0};
+  const auto res = LoadStepping(sc, newton).run(path, q, *solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
+    t.push_back(rep.t);
+    predicted.push_back(rep.history.front());
+    return true;
+  });
+  ASSERT_TRUE(res.completed()) << res.message;
+  int secant_steps = 0;
+  for (std::size_t k = 3; k < t.size(); ++k) {
+    SCOPED_TRACE(t[k]);
+    if (t[k - 1] - t[k - 3] < 0.5 * (t[k] - t[k - 1])) {
+      ++secant_steps;
+      EXPECT_NEAR(predicted[k], (t[k] - t[k - 2]) * (t[k] - t[k - 1]), 1e-12);
+    } else {
+      EXPECT_LT(predicted[k], 1e-12);
+    }
+  }
+  EXPECT_GE(secant_steps, 1);
+}
+
 }  // namespace
 }  // namespace fibrane::solve
