@@ -126,6 +126,8 @@ class Contribution {
   // Events (solve::NonlinearSystem::event_margins): the margins of the last evaluation's state to the
   // contribution's events, the same number at every evaluation (empty: none).
   virtual std::vector<double> event_margins() const { return {}; }
+  // How many times its equations have changed (solve::NonlinearSystem::model_changes); never decreases.
+  virtual long model_changes() const { return 0; }
   // Restart support: the state kept between steps (what accept() committed), as numbers, and its
   // restoration into a contribution built from the same case (InputError if the numbers do not fit).
   // Empty: the contribution keeps no such state.

@@ -70,6 +70,8 @@ class Coupling final : public Interaction {
   // point at the last evaluation minus `below` (+infinity where it is not interior, NaN once soft). A
   // point switches at the accept() after a converged step where it is <= 0.
   std::vector<double> event_margins() const override;
+  // Each switch of a point to the soft minimum changes the equations (points stay switched).
+  long model_changes() const override { return soft_points(); }
   // Closest points that jumped in the last failed attempt: moved by more than kJump d in one evaluation
   // while their beam point moved less than a tenth of that (two shell regions nearly equally close: the
   // closest-point SBS residual is discontinuous there). Empty if none; else a sentence for the user.

@@ -349,6 +349,12 @@ std::vector<double> Model::event_margins() const {
   return margins;
 }
 
+long Model::model_changes() const {
+  long changes = 0;
+  for (const auto& e : entries_) changes += e.contribution->model_changes();
+  return changes;
+}
+
 std::string Model::failure_hint() const {
   std::string hint;
   for (const auto& e : entries_)

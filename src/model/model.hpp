@@ -106,6 +106,7 @@ class Model : public solve::TransientSystem {
   void reject() override;
   void withdraw() override;
   std::vector<double> event_margins() const override;  // the contributions' events in their order
+  long model_changes() const override;                  // the contributions' changes, summed
   // Restart support: the state every contribution keeps between steps (Contribution::save_state), keyed
   // "<evaluation index> <name>", and its restoration into a model built from the same case, which also
   // rebuilds the variable contributions' elements. InputError if the keys do not match this model's.

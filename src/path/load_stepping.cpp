@@ -39,6 +39,7 @@ MethodState LoadStepping::save() const {
   s["t_prev"] = {t_prev_};
   s["dt"] = {dt_};
   s["steps"] = {static_cast<double>(steps_)};
+  s["model_changes"] = {static_cast<double>(changes_), located_change_ ? 1.0 : 0.0};
   s["have_prev"] = {q_past_.empty() ? 0.0 : 1.0};
   s["q_prev"] = {};
   for (std::size_t k = 0; k < q_past_.size(); ++k) {
@@ -54,6 +55,10 @@ void LoadStepping::restore(const MethodState& s) {
   t_prev_ = s.at("t_prev").at(0);
   dt_ = s.at("dt").at(0);
   steps_ = static_cast<int>(s.at("steps").at(0));
+  const auto changes = s.find("model_changes");
+  const bool known = changes != s.end() && changes->second.size() == 2;
+  changes_ = known ? static_cast<long>(changes->second[0]) : -1;
+  located_change_ = known && changes->second[1] != 0.0;
   t_past_.clear();
   q_past_.clear();
   if (s.at("have_prev").at(0) != 0.0)
@@ -112,6 +117,84 @@ void LoadStepping::remember(Eigen::VectorXd& q) {
   t_prev_ = t_;
 }
 
+void LoadStepping::carry_across_change(Eigen::VectorXd& q, const Eigen::VectorXd& q_new,
+                                       const Eigen::VectorXd& predicted) {
+  const Eigen::VectorXd d = q_new - predicted;
+  q += d;
+  for (Eigen::VectorXd& past : q_past_) past += d;
+}
+
+bool LoadStepping::attempt(NonlinearSystem& sys, const Eigen::VectorXd& q, LinearSolver& solver, Attempt& at,
+                           ContinuationResult& res) {
+  const StepControl& sc = control_;
+  for (;;) {
+    at.t_new = (sc.t_end - (t_ + at.dt) <= t_eps_) ? sc.t_end : t_ + at.dt;
+    at.q = predict(q, at.t_new);
+    if (located_change_) at.predicted = at.q;
+    at.newton = newton_solve(sys, at.q, at.t_new, newton_, solver);
+    res.total_iterations += at.newton.iterations;
+    res.local_updates += at.newton.local_updates;
+    if (at.newton.converged) {
+      at.margins = sys.event_margins();
+      if (!events_.withdraw(t_, at.t_new, at.margins)) return true;
+      if (newton_.verbose)
+        std::fprintf(stderr, "step at t=%.6g dt=%.3g crossed an event: withdrawn, shorter\n", at.t_new, at.dt);
+      sys.withdraw();
+      ++res.withdrawn_attempts;
+      const double shorter = events_.step(t_, at.dt_plan);  // within the bracket: shorter than the withdrawn
+      at.dt = shorter < at.dt ? shorter : at.dt * sc.cutback;
+      at.shortened = true;
+      continue;
+    }
+    if (newton_.verbose)
+      std::fprintf(stderr, "step at t=%.6g dt=%.3g failed: %s; cutting back\n", at.t_new, at.dt,
+                   at.newton.failure.c_str());
+    sys.reject();
+    ++at.cutbacks;
+    ++res.failed_attempts;
+    at.dt *= sc.cutback;
+    if (at.dt < sc.dt_min) {
+      const bool limit = sc.stop_at_limit_point && res.steps > 0;
+      res.outcome = limit ? Outcome::limit_point : Outcome::failed;
+      res.message = limit ? "ended at a limit point after t = " + format_number(t_) +
+                                " (no equilibrium could be continued: for displacement-driven adhesion, pull-off)"
+                          : "step from t = " + format_number(t_) + " failed with dt below dt_min = " +
+                                format_number(sc.dt_min) + ": " + at.newton.failure;
+      if (const std::string hint = sys.failure_hint(); !hint.empty() && !limit) res.message += ". " + hint;
+      return false;
+    }
+  }
+}
+
+void LoadStepping::advance(NonlinearSystem& sys, Eigen::VectorXd& q, Attempt& at) {
+  const StepControl& sc = control_;
+  // A model changed by a located event: the states before it lie within a tolerance of the change and the
+  // step after it is short, so a parabola or cubic through them and the new state would multiply the
+  // jump between the two models' paths; the step's own prediction error is small against that jump.
+  // Elsewhere (events not located, switches after failed attempts) the steps are long, their prediction
+  // error is not small against the jump, and the polynomial keeps the states as they are.
+  if (const long changes = sys.model_changes(); changes != changes_) {
+    if (located_change_) carry_across_change(q, at.q, at.predicted);
+    changes_ = changes;
+  }
+  located_change_ = false;
+  remember(q);
+  q = at.q;
+  t_ = at.t_new;
+  ++steps_;
+  // Grow only after an easy step taken at full size; after a cut-back continue with the size that worked.
+  if (!(at.shortened && at.cutbacks == 0))
+    dt_ = (at.cutbacks == 0 && at.newton.iterations <= sc.easy_iterations) ? std::min(at.dt * sc.growth, sc.dt_max)
+                                                                          : at.dt;
+  // A located event changes the model at this state: the step after it starts shorter.
+  if (events_.located(at.margins)) {
+    dt_ = std::max(dt_ * sc.cutback, sc.dt_min);
+    located_change_ = true;
+  }
+  sys.accept(q, t_);
+  events_.accepted(t_, sys.event_margins());
+}
+
 ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                                      const StepCallback& on_step) {
   const StepControl& sc = control_;
@@ -122,84 +205,38 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     t_past_.clear();
     q_past_.clear();
     events_.start(t_);
+    changes_ = sys.model_changes();
+    located_change_ = false;
   }
+  if (changes_ < 0) changes_ = sys.model_changes();
   ContinuationResult res;
   res.t_reached = t_;
   res.steps = steps_;
   // Steps shorter than this fraction of the range count as reaching t_end (round-off in sums of dt).
-  const double t_eps = 1e-12 * std::max(1.0, std::abs(sc.t_end));
-  while (sc.t_end - t_ > t_eps) {
+  t_eps_ = 1e-12 * std::max(1.0, std::abs(sc.t_end));
+  while (sc.t_end - t_ > t_eps_) {
     if (res.steps >= sc.max_steps) {
       res.outcome = Outcome::max_steps;
       res.message = "stopped after max_steps = " + std::to_string(sc.max_steps) + " steps";
       return res;
     }
-    const double dt_plan = std::min(dt_, sc.t_end - t_);
-    double dt_try = events_.step(t_, dt_plan);
-    bool shortened = dt_try < dt_plan;  // for an event ahead: the planned dt_ stands for the steps after it
-    int cutbacks = 0;
-    std::vector<double> margins;
-    NewtonReport newton;
-    Eigen::VectorXd q_trial;
-    double t_new = t_;
-    for (;;) {
-      t_new = (sc.t_end - (t_ + dt_try) <= t_eps) ? sc.t_end : t_ + dt_try;
-      q_trial = predict(q, t_new);
-      newton = newton_solve(sys, q_trial, t_new, newton_, solver);
-      res.total_iterations += newton.iterations;
-      res.local_updates += newton.local_updates;
-      if (newton.converged) {
-        margins = sys.event_margins();
-        if (!events_.withdraw(t_, t_new, margins)) break;
-        if (newton_.verbose)
-          std::fprintf(stderr, "step at t=%.6g dt=%.3g crossed an event: withdrawn, shorter\n", t_new, dt_try);
-        sys.withdraw();
-        ++res.withdrawn_attempts;
-        const double shorter = events_.step(t_, dt_plan);  // within the bracket: shorter than the withdrawn
-        dt_try = shorter < dt_try ? shorter : dt_try * sc.cutback;
-        shortened = true;
-        continue;
-      }
-      if (newton_.verbose)
-        std::fprintf(stderr, "step at t=%.6g dt=%.3g failed: %s; cutting back\n", t_new, dt_try,
-                     newton.failure.c_str());
-      sys.reject();
-      ++cutbacks;
-      ++res.failed_attempts;
-      dt_try *= sc.cutback;
-      if (dt_try < sc.dt_min) {
-        const bool limit = sc.stop_at_limit_point && res.steps > 0;
-        res.outcome = limit ? Outcome::limit_point : Outcome::failed;
-        res.message = limit ? "ended at a limit point after t = " + format_number(t_) +
-                                  " (no equilibrium could be continued: for displacement-driven adhesion, pull-off)"
-                            : "step from t = " + format_number(t_) + " failed with dt below dt_min = " +
-                                  format_number(sc.dt_min) + ": " + newton.failure;
-        if (const std::string hint = sys.failure_hint(); !hint.empty() && !limit) res.message += ". " + hint;
-        return res;
-      }
-    }
-    remember(q);
-    q = q_trial;
-    t_ = t_new;
+    Attempt at;
+    at.dt_plan = std::min(dt_, sc.t_end - t_);
+    at.dt = events_.step(t_, at.dt_plan);
+    at.shortened = at.dt < at.dt_plan;  // for an event ahead: the planned dt_ stands for the steps after it
+    if (!attempt(sys, q, solver, at, res)) return res;
+    advance(sys, q, at);
     res.t_reached = t_;
-    steps_ = ++res.steps;
-    // Grow only after an easy step taken at full size; after a cut-back continue with the size that worked.
-    if (!(shortened && cutbacks == 0))
-      dt_ = (cutbacks == 0 && newton.iterations <= sc.easy_iterations) ? std::min(dt_try * sc.growth, sc.dt_max)
-                                                                       : dt_try;
-    // A located event changes the model at this state: the step after it starts shorter.
-    if (events_.located(margins)) dt_ = std::max(dt_ * sc.cutback, sc.dt_min);
-    sys.accept(q, t_);
-    events_.accepted(t_, sys.event_margins());
+    res.steps = steps_;
     StepReport report;
     report.step = res.steps;
     report.t = t_;
     report.dt = t_ - t_prev_;
-    report.iterations = newton.iterations;
-    report.residual_norm = newton.residual_norm;
-    report.cutbacks = cutbacks;
-    report.history = newton.history;
-    report.negative_eigenvalues = newton.negative_eigenvalues;
+    report.iterations = at.newton.iterations;
+    report.residual_norm = at.newton.residual_norm;
+    report.cutbacks = at.cutbacks;
+    report.history = at.newton.history;
+    report.negative_eigenvalues = at.newton.negative_eigenvalues;
     if (on_step && !on_step(report, q)) {
       res.outcome = Outcome::stopped;
       res.message = "stopped by the step callback at t = " + format_number(t_);

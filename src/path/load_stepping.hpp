@@ -52,11 +52,34 @@ class LoadStepping final : public ContinuationMethod {
   std::vector<double> t_past_;
   std::vector<Eigen::VectorXd> q_past_;
   bool restored_ = false;
+  // NonlinearSystem::model_changes() when the current state converged (-1: not known, an older checkpoint),
+  // and whether the current state crossed a located event (the model changes at its accept()).
+  long changes_ = -1;
+  bool located_change_ = false;
   EventLocator events_;
+  double t_eps_ = 0;  // steps shorter than this count as reaching t_end (round-off in sums of dt)
+  // One step's attempts from the converged (q, t_).
+  struct Attempt {
+    double dt_plan = 0, dt = 0, t_new = 0;  // the planned step, the one tried, and where it ends
+    bool shortened = false;                 // dt < dt_plan: for an event ahead or after a withdrawn attempt
+    int cutbacks = 0;
+    std::vector<double> margins;            // the event margins at the converged state
+    NewtonReport newton;
+    Eigen::VectorXd q, predicted;           // the converged state; its prediction (after a located change)
+  };
+  // Attempts the step until one converges and is not withdrawn (true); false when the run ends (res says
+  // how): a failure below dt_min.
+  bool attempt(NonlinearSystem& sys, const Eigen::VectorXd& q, LinearSolver& solver, Attempt& at,
+               ContinuationResult& res);
+  // Takes the converged attempt as the new state q: the past states, t, the next dt, the system's accept().
+  void advance(NonlinearSystem& sys, Eigen::VectorXd& q, Attempt& at);
   // The predicted state at t_new from q (at t_) and the stored converged states.
   Eigen::VectorXd predict(const Eigen::VectorXd& q, double t_new) const;
   // Keeps q (at t_) as the latest past state before the step to t_new is taken.
   void remember(Eigen::VectorXd& q);
+  // After the model changed between the current state q and the converged q_new: moves q and the past
+  // states by q_new's Newton correction q_new - predicted, onto the new path.
+  void carry_across_change(Eigen::VectorXd& q, const Eigen::VectorXd& q_new, const Eigen::VectorXd& predicted);
 };
 
 }  // namespace fibrane::solve

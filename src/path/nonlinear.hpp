@@ -61,6 +61,10 @@ class NonlinearSystem {
   // for a system without events. Load stepping locates where they cross 0 (StepControl::event_tolerance),
   // so that each change happens at the same state whatever the steps.
   virtual std::vector<double> event_margins() const { return {}; }
+  // How many changes of the model's equations have happened so far (events at accept(), switches after a
+  // failed attempt); it never decreases. Converged states from before a change lie on another path than
+  // those after it, so a predictor does not extrapolate through both as they are.
+  virtual long model_changes() const { return 0; }
   virtual double residual_scale() const { return 1.0; }  // reference force level for relative tolerances
   // The round-off floor of the residual at the last evaluate() with the tangent: the size of the residual
   // that rounding the current configuration to double precision alone causes, eps * sqrt(sum_ij

@@ -150,7 +150,9 @@ TEST(SoftMinimum, LocatedSwitchesMakeTheEndIndependentOfTheSteps) {
     EXPECT_TRUE(r.summary.result.completed()) << r.summary.result.message;
     EXPECT_EQ(r.summary.result.failed_attempts, 0);
     EXPECT_EQ(r.c.model->interactions_of<model::Coupling>()[0]->soft_points(), 1);
-    if (tolerance == "0") EXPECT_EQ(r.summary.result.withdrawn_attempts, 0);
+    if (tolerance == "0") {
+      EXPECT_EQ(r.summary.result.withdrawn_attempts, 0);
+    }
     return r.history.at("end_uz").back();
   };
   const double free_short = run("0.03", "0"), free_long = run("0.05", "0");

@@ -72,8 +72,9 @@ LineRun run(double dt_max, double tolerance, int stop_after = 0, bool drop_event
     const int withdrawn = res.withdrawn_attempts, iterations = res.total_iterations;
     LoadStepping second(sc, NewtonOptions{});
     MethodState saved = first.save();
-    if (drop_event_keys)
+    if (drop_event_keys) {
       for (const char* key : {"events_t", "events_last", "events_before", "events_far"}) EXPECT_EQ(saved.erase(key), 1u);
+    }
     second.restore(saved);
     res = second.run(line, q, *solver, nullptr);
     res.withdrawn_attempts += withdrawn;
@@ -228,6 +229,93 @@ TEST(EventLocation, AParabolaLeavesOutStatesBunchedAgainstTheStep) {
     }
   }
   EXPECT_GE(secant_steps, 1);
+}
+
+// On q = t^2 the model changes once g = 0.09 - q <= 0 (t = 0.3) to q = t^2 + J: the path jumps by J there.
+// With the event located, the states before the change are moved by the first step's Newton correction:
+// J plus that step's own prediction error (the secant's, 0.05 J here, as the crossing's states are
+// bunched). The later steps start below J / 2, where a parabola through the unmoved states would start at
+// ~5 J (the new state's Lagrange weight 6.2 at the next t, less the jump itself), and at round-off once
+// the moved states have left the predictor. Without location the parabola keeps the states as they are:
+// the second step after the change (steps of 0.1) starts at 2 J, the jump times its weight 3 at t = 0.5
+// less the jump.
+TEST(EventLocation, APredictorMovesThePastStatesAcrossALocatedChange) {
+  constexpr double J = 0.05;
+  class JumpingParabola final : public NonlinearSystem {
+   public:
+    JumpingParabola() : r_(1), k_(1, 1) { k_.insert(0, 0) = 1.0; }
+    int size() const override { return 1; }
+    void evaluate(const Eigen::VectorXd& q, double t, bool) override {
+      q_ = q[0], r_[0] = q_ - t * t - (switched_ ? J : 0.0);
+    }
+    const Eigen::VectorXd& residual() const override { return r_; }
+    const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+    int pattern_version() const override { return 0; }
+    std::vector<double> event_margins() const override { return {switched_ ? NAN : 0.09 - q_}; }
+    long model_changes() const override { return switched_ ? 1 : 0; }
+    void accept(const Eigen::VectorXd& q, double t) override {
+      if (!switched_ && 0.09 - q[0] <= 0) switched_ = true, t_switch = t;
+    }
+    double t_switch = NAN;
+
+   private:
+    double q_ = 0;
+    bool switched_ = false;
+    Eigen::VectorXd r_;
+    Eigen::SparseMatrix<double> k_;
+  };
+  // The steps' t and |r| at the predicted state; stopped after `stop_after` steps (> 0) and continued by a
+  // fresh LoadStepping from save() / restore().
+  auto steps = [](double tolerance, JumpingParabola& path, int stop_after = 0) {
+    StepControl sc;
+    sc.dt_initial = sc.dt_max = 0.1;
+    sc.predictor_order = 2;
+    sc.event_tolerance = tolerance;
+    NewtonOptions newton;
+    newton.tol_absolute = 1e-14;
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+    std::vector<std::pair<double, double>> t_and_r{{0.0, 0.0}};
+    auto record = [&](const StepReport& rep, const Eigen::VectorXd&) {
+      t_and_r.emplace_back(rep.t, rep.history.front());
+      return stop_after == 0 || rep.step < stop_after;
+    };
+    LoadStepping first(sc, newton);
+    auto res = first.run(path, q, *solver, record);
+    if (res.outcome == Outcome::stopped) {
+      stop_after = 0;
+      LoadStepping second(sc, newton);
+      second.restore(first.save());
+      res = second.run(path, q, *solver, record);
+    }
+    EXPECT_TRUE(res.completed()) << res.message;
+    EXPECT_NEAR(q[0], 1.0 + J, 1e-12);
+    return t_and_r;
+  };
+  JumpingParabola located;
+  const auto s = steps(1e-3, located);
+  std::size_t after = 0;  // the first step after the change
+  while (after < s.size() && !(s[after].first > located.t_switch)) ++after;
+  ASSERT_LT(after + 2, s.size());
+  EXPECT_NEAR(s[after].second, J, 0.1 * J);
+  for (std::size_t k = after + 1; k < s.size(); ++k) {
+    SCOPED_TRACE(s[k].first);
+    EXPECT_LT(s[k].second, 0.5 * J);
+    if (k >= after + 4) {
+      EXPECT_LT(s[k].second, 1e-12);  // three steps on: no moved state left in the parabola
+    }
+  }
+  // Stopped after any step and continued from the saved state, the same steps with the same residuals.
+  for (int stop = 1; stop + 1 < static_cast<int>(s.size()); ++stop) {
+    SCOPED_TRACE(stop);
+    JumpingParabola resumed;
+    EXPECT_EQ(steps(1e-3, resumed, stop), s);
+  }
+  JumpingParabola plain;
+  const auto p = steps(0, plain);
+  ASSERT_GE(p.size(), 6u);
+  EXPECT_NEAR(p[4].second, J, 1e-12);      // t = 0.4: the old path's prediction
+  EXPECT_NEAR(p[5].second, 2 * J, 1e-12);  // t = 0.5
 }
 
 }  // namespace
