@@ -40,7 +40,7 @@ class ProbeSolver : public fibrane::solve::LinearSolver {
     inner_->begin_step();
   }
   void analyze(const SpMat& a) override { inner_->analyze(a); }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     if (in_step_ == 0) k0_ = a;
     if (in_step_ == 1 && step_ % every_ == 0) {
       k1_ = a;

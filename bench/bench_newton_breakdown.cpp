@@ -43,7 +43,7 @@ class TimedSolver : public fibrane::solve::LinearSolver {
     analyze_ += seconds_since(t0);
     ++analyses;
   }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override {
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override {
     const auto t0 = clock_type::now();
     const bool ok = inner_->factorize(a);
     factorize_ += seconds_since(t0);

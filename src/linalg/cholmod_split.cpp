@@ -38,7 +38,7 @@ class CholmodSplitSolver final : public LinearSolver {
     if (!whole_) whole_ = make_cholmod_llt(options_.memory_limit_megabytes);
     whole_->analyze(a);
   }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     factored_ = false;
     if (!split_) return whole_->factorize(a);
     if (const std::string refusal = memory_refusal(); !refusal.empty()) {

@@ -42,7 +42,7 @@ bool KrylovReuseSolver::refactorize() const {
   return factor_valid_;
 }
 
-bool KrylovReuseSolver::factorize(const Eigen::SparseMatrix<double>& a) {
+bool KrylovReuseSolver::factorize_numeric(const Eigen::SparseMatrix<double>& a) {
   matrix_ = &a;
   if (factor_valid_ && !stale_ && a.rows() == factored_size_) {
     fresh_ = false;

@@ -55,13 +55,14 @@ class KrylovReuseSolver final : public LinearSolver {
   KrylovReuseSolver(std::unique_ptr<LinearSolver> direct, const KrylovReuseOptions& options, bool symmetric,
                     Factory exact_fallback = {});
   void analyze(const Eigen::SparseMatrix<double>& a) override;
-  bool factorize(const Eigen::SparseMatrix<double>& a) override;
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override;
   bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return solve_to(b, 0.0); }
   // Iterates to max(relative_accuracy, options.tolerance).
   Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double relative_accuracy) const override;
   std::string name() const override { return "krylov(" + direct_->name() + ")"; }
   long factor_nonzeros() const override { return direct_->factor_nonzeros(); }
+  long factorizations() const override { return stats_.factorizations; }
   std::string analysis_summary() const override;
   int negative_eigenvalues() const override { return fresh_ ? direct_->negative_eigenvalues() : -1; }
   std::string failure_detail() const override { return direct_->failure_detail(); }

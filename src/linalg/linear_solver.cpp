@@ -89,7 +89,7 @@ class AutoSolver final : public LinearSolver {
     llt_->analyze(a);
     current_ = llt_.get();
   }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     if (!llt_) analyze(a);
     const bool first_of_step = std::exchange(step_starts_, false);
     if (!(fallback_first_ || (first_of_step && step_start_indefinite_))) {
@@ -178,7 +178,7 @@ class SymmetryProbingSolver final : public LinearSolver {
     else probe_.build(a);
     pick(a, choose(a), true);
   }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     // analyze() is the caller's duty on a new pattern; a matrix of another size is re-analysed here.
     if (!current_ || (probe_.structurally_symmetric() && probe_.size() != a.nonZeros())) analyze(a);
     pick(a, choose(a), false);

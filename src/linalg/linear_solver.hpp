@@ -18,7 +18,15 @@ class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   virtual void analyze(const Eigen::SparseMatrix<double>& a) = 0;    // symbolic; reused while the pattern is unchanged
-  virtual bool factorize(const Eigen::SparseMatrix<double>& a) = 0;  // false on failure (singular / not PD)
+  // Numeric factorisation (factorize_numeric); false on failure (singular / not PD).
+  bool factorize(const Eigen::SparseMatrix<double>& a) {
+    const bool ok = factorize_numeric(a);
+    if (ok) ++factorizations_;
+    return ok;
+  }
+  // The successful factorize() calls so far; a solver that answers some of them by reusing an earlier
+  // factorisation (KrylovReuseSolver) counts the factorisations it made. summary.json reports it.
+  virtual long factorizations() const { return factorizations_; }
   virtual Eigen::VectorXd solve(const Eigen::VectorXd& b) const = 0;
   // solve() for a caller that accepts |A x - b| <= relative_accuracy |b| (an inexact Newton method):
   // iterative solvers may stop there; direct ones solve as solve() does.
@@ -69,7 +77,11 @@ class LinearSolver {
   // Used by newton_solve(); returns true if it analysed.
   bool analyze_if_needed(const Eigen::SparseMatrix<double>& a, int pattern_version);
 
+ protected:
+  virtual bool factorize_numeric(const Eigen::SparseMatrix<double>& a) = 0;  // factorize()'s work
+
  private:
+  long factorizations_ = 0;
   int analyzed_version_ = -1;
   Eigen::Index analyzed_rows_ = -1, analyzed_nonzeros_ = -1;
 };

@@ -83,7 +83,7 @@ class MumpsSolver final : public LinearSolver {
   MumpsSolver& operator=(const MumpsSolver&) = delete;
 
   void analyze(const SpMat& a) override;
-  bool factorize(const SpMat& a) override;
+  bool factorize_numeric(const SpMat& a) override;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return solve_columns(b); }
   Eigen::MatrixXd solve_columns(const Eigen::MatrixXd& b) const override;
   std::string name() const override {
@@ -250,7 +250,7 @@ bool MumpsSolver<Arithmetic>::gather_values(const SpMat& a) {
 }
 
 template <class Arithmetic>
-bool MumpsSolver<Arithmetic>::factorize(const SpMat& a) {
+bool MumpsSolver<Arithmetic>::factorize_numeric(const SpMat& a) {
   if (!analyzed_ || a.rows() != n_ || a.nonZeros() != matrix_nonzeros_) analyze(a);
   factored_ = false;
   if (!analyzed_) return false;

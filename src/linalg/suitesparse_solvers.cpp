@@ -74,7 +74,7 @@ class CholmodSolver final : public LinearSolver {
     ++analyses_;
     negative_ = -1;
   }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     negative_ = -1;
     refusal_ = memory_refusal();
     if (!refusal_.empty()) return false;
@@ -197,7 +197,7 @@ class UmfpackSolver final : public LinearSolver {
     hand_back_freed_memory();
     status_ = lu_.status();
   }
-  bool factorize(const SpMat& a) override {
+  bool factorize_numeric(const SpMat& a) override {
     a_ = a;
     lu_.factorize(a_);
     status_ = lu_.status();

@@ -71,7 +71,7 @@ class PetscSolver final : public solve::LinearSolver {
   PetscSolver& operator=(const PetscSolver&) = delete;
 
   void analyze(const SpMat& a) override;
-  bool factorize(const SpMat& a) override;
+  bool factorize_numeric(const SpMat& a) override;
   bool factorize_exactly(const SpMat& a) override;
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override;
   std::string name() const override;
@@ -307,7 +307,7 @@ void PetscSolver::set_matrix(const SpMat& a) {
   set_values(in_solver_rows(a, own_, storage));
 }
 
-bool PetscSolver::factorize(const SpMat& a) {
+bool PetscSolver::factorize_numeric(const SpMat& a) {
   set_matrix(a);
   // GMRES keeps an earlier factorisation as its preconditioner; solve() refactorises when it does not do.
   if (options_.method == PetscSolverOptions::Method::gmres && factored_ && !stale_) {

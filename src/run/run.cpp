@@ -7,6 +7,7 @@
 #include <chrono>
 #include <csignal>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <iostream>
 #include <memory>
@@ -127,6 +128,7 @@ class Run {
   void write_summary(const RunSummary& summary, const io::JsonValue& extra) {
     try {
       io::JsonValue members = extra;
+      members.set("factorizations", static_cast<std::int64_t>(solver_->factorizations()));
       members.set("linear_solver_statistics", solver_->analysis_summary());
       if (out_) out_->write_summary(m_, summary.result, summary.wall_seconds, solver_->name(), &members);
     } catch (...) {

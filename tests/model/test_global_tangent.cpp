@@ -93,7 +93,7 @@ TEST(GlobalTangent, SkewCandidatesHoldTheSkewPart) {
 TEST(GlobalTangent, AnalysesTellTheSolverTheSkewCandidates) {
   struct Recording final : solve::LinearSolver {
     void analyze(const Eigen::SparseMatrix<double>&) override { ++analyses; }
-    bool factorize(const Eigen::SparseMatrix<double>&) override { return true; }
+    bool factorize_numeric(const Eigen::SparseMatrix<double>&) override { return true; }
     Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return b; }
     std::string name() const override { return "recording"; }
     long factor_nonzeros() const override { return 0; }

@@ -68,7 +68,7 @@ class FailingSolver : public solve::LinearSolver {
  public:
   FailingSolver(std::unique_ptr<solve::LinearSolver> inner, int fail_at) : inner_(std::move(inner)), left_(fail_at) {}
   void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
     if (--left_ == 0) throw std::runtime_error("injected solver error");
     return inner_->solve(b);

@@ -24,7 +24,7 @@ class RecordingSolver final : public solve::LinearSolver {
       : inner_(std::move(inner)), out_(out) {}
   ~RecordingSolver() override { out_ = inner_->statistics(); }
   void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize(a); }
   bool factorize_exactly(const Eigen::SparseMatrix<double>& a) override { return inner_->factorize_exactly(a); }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return inner_->solve(b); }
   Eigen::VectorXd solve_to(const Eigen::VectorXd& b, double accuracy) const override {

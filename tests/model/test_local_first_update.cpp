@@ -20,7 +20,7 @@ class CountingSolver final : public solve::LinearSolver {
  public:
   CountingSolver(std::unique_ptr<solve::LinearSolver> inner, int& count) : inner_(std::move(inner)), count_(count) {}
   void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override {
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override {
     ++count_;
     return inner_->factorize(a);
   }
@@ -95,6 +95,8 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   std::ifstream json(local.run.directory / "summary.json");
   const std::string text((std::istreambuf_iterator<char>(json)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("\"local_updates\": " + std::to_string(res.local_updates) + ","), std::string::npos) << text;
+  // summary.json's `factorizations`: the run solver's numeric factorisations, as the decorator counted them.
+  EXPECT_NE(text.find("\"factorizations\": " + std::to_string(local.factorizations) + ","), std::string::npos) << text;
 }
 
 // The partial evaluation behind the local update (Model::evaluate_tangent_on): at the bending example's

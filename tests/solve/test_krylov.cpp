@@ -76,6 +76,7 @@ TEST(KrylovReuse, OneFactorisationServesNearbyMatrices) {
       EXPECT_LT(relative_residual(a, x, b), 1e-10) << symmetric;
     }
     EXPECT_EQ(solver.statistics().factorizations, 1) << symmetric;
+    EXPECT_EQ(solver.factorizations(), 1) << symmetric;  // those made, not the five factorize() answered
     EXPECT_EQ(solver.statistics().krylov_solves, 4) << symmetric;  // the first solve was direct
     EXPECT_EQ(solver.negative_eigenvalues(), -1);  // the factorisation is another matrix's
     // factorize_exactly() factorises this matrix, and its inertia is known again.
@@ -113,7 +114,7 @@ TEST(KrylovReuse, StaleFactorisationIsRenewed) {
 class Scaled final : public LinearSolver {
  public:
   void analyze(const SpMat& a) override { inner_->analyze(a); }
-  bool factorize(const SpMat& a) override { return inner_->factorize(a); }
+  bool factorize_numeric(const SpMat& a) override { return inner_->factorize(a); }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return 0.999 * inner_->solve(b); }
   std::string name() const override { return "scaled"; }
   long factor_nonzeros() const override { return inner_->factor_nonzeros(); }
@@ -199,7 +200,7 @@ TEST(KrylovReuse, RefinesApproximateFactorisations) {
 class Useless final : public LinearSolver {
  public:
   void analyze(const SpMat& a) override { inner_->analyze(a); }
-  bool factorize(const SpMat& a) override { return inner_->factorize(a); }
+  bool factorize_numeric(const SpMat& a) override { return inner_->factorize(a); }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return 0.25 * b; }
   std::string name() const override { return "useless"; }
   long factor_nonzeros() const override { return inner_->factor_nonzeros(); }

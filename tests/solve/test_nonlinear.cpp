@@ -440,7 +440,7 @@ TEST(Newton, NonFiniteTangentIsReportedBeforeFactorising) {
 class FailingSolve final : public LinearSolver {
  public:
   void analyze(const Eigen::SparseMatrix<double>&) override {}
-  bool factorize(const Eigen::SparseMatrix<double>&) override { return true; }
+  bool factorize_numeric(const Eigen::SparseMatrix<double>&) override { return true; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override {
     return Eigen::VectorXd::Constant(b.size(), std::numeric_limits<double>::quiet_NaN());
   }

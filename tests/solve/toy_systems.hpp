@@ -148,7 +148,7 @@ class InertiaSolver : public LinearSolver {
  public:
   explicit InertiaSolver(std::unique_ptr<LinearSolver> inner) : inner_(std::move(inner)) {}
   void analyze(const Eigen::SparseMatrix<double>& a) override { inner_->analyze(a); }
-  bool factorize(const Eigen::SparseMatrix<double>& a) override {
+  bool factorize_numeric(const Eigen::SparseMatrix<double>& a) override {
     negative_ = dense_negative_eigenvalues(Eigen::MatrixXd(a));
     return inner_->factorize(a);
   }
@@ -166,7 +166,7 @@ class InertiaSolver : public LinearSolver {
 class RefusingSolver : public LinearSolver {
  public:
   void analyze(const Eigen::SparseMatrix<double>&) override {}
-  bool factorize(const Eigen::SparseMatrix<double>&) override { return ++refusals, false; }
+  bool factorize_numeric(const Eigen::SparseMatrix<double>&) override { return ++refusals, false; }
   Eigen::VectorXd solve(const Eigen::VectorXd& b) const override { return b * std::nan(""); }
   std::string name() const override { return "refusing"; }
   long factor_nonzeros() const override { return 0; }
