@@ -186,11 +186,8 @@ void LoadStepping::advance(NonlinearSystem& sys, Eigen::VectorXd& q, Attempt& at
   if (!(at.shortened && at.cutbacks == 0))
     dt_ = (at.cutbacks == 0 && at.newton.iterations <= sc.easy_iterations) ? std::min(at.dt * sc.growth, sc.dt_max)
                                                                           : at.dt;
-  // A located event changes the model at this state: the step after it starts shorter.
-  if (events_.located(at.margins)) {
-    dt_ = std::max(dt_ * sc.cutback, sc.dt_min);
-    located_change_ = true;
-  }
+  // A located event changes the model at this state (the next step's predictor then moves the past states).
+  located_change_ = events_.located(at.margins);
   sys.accept(q, t_);
   events_.accepted(t_, sys.event_margins());
 }

@@ -138,7 +138,7 @@ TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
 // and the path after it, follow the steps; with steps.event_tolerance the switching step is at most that
 // long and begins at the crossing to that tolerance. 40x10x10 with steps of up to 0.03 and 0.05 (one
 // soft point, no failed attempts; ~5 s each on one thread): end_uz 8.5e-6 (relative) apart without
-// location, 5.5e-7 with 1e-3. The bound is the measured gap at 1e-3 of the load times the unlocated gap per
+// location, 3.2e-7 with 1e-3. The bound is the measured gap at 1e-3 of the load times the unlocated gap per
 // 0.02 of load (the steps' mean overshoot), with a factor 4 for the solver path's round-off.
 TEST(SoftMinimum, LocatedSwitchesMakeTheEndIndependentOfTheSteps) {
   auto run = [](const std::string& dt_max, const std::string& tolerance) {

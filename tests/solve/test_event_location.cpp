@@ -233,9 +233,8 @@ TEST(EventLocation, AParabolaLeavesOutStatesBunchedAgainstTheStep) {
 
 // On q = t^2 the model changes once g = 0.09 - q <= 0 (t = 0.3) to q = t^2 + J: the path jumps by J there.
 // With the event located, the states before the change are moved by the first step's Newton correction:
-// J plus that step's own prediction error (the secant's, 0.05 J here, as the crossing's states are
-// bunched). The later steps start below J / 2, where a parabola through the unmoved states would start at
-// ~5 J (the new state's Lagrange weight 6.2 at the next t, less the jump itself), and at round-off once
+// J plus that step's own prediction error e. The next step starts at e |1 - w| (w the new state's weight
+// in the parabola) where the unmoved states would give J |w - 1|, and the steps start at round-off once
 // the moved states have left the predictor. Without location the parabola keeps the states as they are:
 // the second step after the change (steps of 0.1) starts at 2 J, the jump times its weight 3 at t = 0.5
 // less the jump.
@@ -296,14 +295,22 @@ TEST(EventLocation, APredictorMovesThePastStatesAcrossALocatedChange) {
   const auto s = steps(1e-3, located);
   std::size_t after = 0;  // the first step after the change
   while (after < s.size() && !(s[after].first > located.t_switch)) ++after;
-  ASSERT_LT(after + 2, s.size());
-  EXPECT_NEAR(s[after].second, J, 0.1 * J);
-  for (std::size_t k = after + 1; k < s.size(); ++k) {
+  ASSERT_LT(after + 3, s.size());
+  // The first step past the change: the old path's prediction (the secant, as the crossing's states are
+  // bunched) misses the jump J and its own error e on t^2.
+  const double e = s[after].second - J;
+  EXPECT_GT(e, 0.0);
+  EXPECT_LT(e, 0.25 * J);
+  // The next step's parabola: the two moved states lie on t^2 + J + e, the new one on t^2 + J, so it starts
+  // at e |1 - w|, w the new state's weight at t; through the unmoved states it would start at J |w - 1|.
+  const double t0 = s[after - 2].first, t1 = s[after - 1].first, t2 = s[after].first, t = s[after + 1].first;
+  ASSERT_GE(t2 - t0, 0.5 * (t - t2));  // all three states in the parabola (kSpanForCurvature)
+  const double w = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
+  EXPECT_GT(w, 2.0);
+  EXPECT_NEAR(s[after + 1].second, e * std::abs(1 - w), 1e-12);
+  for (std::size_t k = after + 3; k < s.size(); ++k) {  // no moved state left in the parabola
     SCOPED_TRACE(s[k].first);
-    EXPECT_LT(s[k].second, 0.5 * J);
-    if (k >= after + 4) {
-      EXPECT_LT(s[k].second, 1e-12);  // three steps on: no moved state left in the parabola
-    }
+    EXPECT_LT(s[k].second, 1e-12);
   }
   // Stopped after any step and continued from the saved state, the same steps with the same residuals.
   for (int stop = 1; stop + 1 < static_cast<int>(s.size()); ++stop) {
