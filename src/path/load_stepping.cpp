@@ -168,11 +168,13 @@ bool LoadStepping::attempt(NonlinearSystem& sys, const Eigen::VectorXd& q, Linea
 
 void LoadStepping::advance(NonlinearSystem& sys, Eigen::VectorXd& q, Attempt& at) {
   const StepControl& sc = control_;
-  // A model changed by a located event: the states before it lie within a tolerance of the change and the
-  // step after it is short, so a parabola or cubic through them and the new state would multiply the
-  // jump between the two models' paths; the step's own prediction error is small against that jump.
-  // Elsewhere (events not located, switches after failed attempts) the steps are long, their prediction
-  // error is not small against the jump, and the polynomial keeps the states as they are.
+  // A model changed by a located event: the states before it lie within a tolerance of the change (the
+  // crossing's short steps), so a parabola or cubic through them and the new state would multiply the jump
+  // between the two models' paths by the new state's large weight. Moved by the first step's Newton
+  // correction, they leave that step's own prediction error in the jump's place, the smaller of the two
+  // there (docs/interaction.md, section 7). Elsewhere (events not located, switches after failed attempts)
+  // the states are a step apart, the weight is ~3 and the prediction error not small against the jump:
+  // the polynomial keeps the states as they are.
   if (const long changes = sys.model_changes(); changes != changes_) {
     if (located_change_) carry_across_change(q, at.q, at.predicted);
     changes_ = changes;
