@@ -150,6 +150,7 @@ TEST(SoftMinimum, LocatedSwitchesMakeTheEndIndependentOfTheSteps) {
     EXPECT_TRUE(r.summary.result.completed()) << r.summary.result.message;
     EXPECT_EQ(r.summary.result.failed_attempts, 0);
     EXPECT_EQ(r.c.model->interactions_of<model::Coupling>()[0]->soft_points(), 1);
+    EXPECT_EQ(r.c.model->model_changes(), 1);  // the switch, as load stepping sees it
     if (tolerance == "0") {
       EXPECT_EQ(r.summary.result.withdrawn_attempts, 0);
     }
