@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -64,13 +65,16 @@ Coupling::Coupling(std::string name, std::shared_ptr<const laws::InteractionLaw>
   jump_.assign(quad_.size(), 0.0);
   points_.resize(quad_.size());
   soft_of_.assign(quad_.size(), -1);
+  converged_curvature_.assign(quad_.size(), std::numeric_limits<double>::infinity());
 }
 
-void Coupling::enable_soft_minimum(double width, double below) {
+void Coupling::enable_soft_minimum(double width, double below, double below_on_failure) {
   if (formulation_ != interaction::Formulation::RF2)
     throw std::invalid_argument("Coupling::enable_soft_minimum: RF2 only");
+  if (!(below_on_failure >= below)) throw std::invalid_argument("Coupling::enable_soft_minimum: below_on_failure < below");
   soft_width_ = width;
   soft_below_ = below;
+  soft_below_on_failure_ = below_on_failure;
 }
 
 double Coupling::beta() const { return 1.0 / (soft_width_ * law_->equilibrium_distance(1.0)); }
@@ -152,6 +156,11 @@ bool Coupling::collect_pairs() {
 }
 
 void Coupling::accept(const State& state) {
+  for (std::size_t i = 0; i < quad_.size(); ++i)
+    converged_curvature_[i] =
+        soft_of_[i] < 0 && projection_[i].where == interaction::ShellProximity::Projection::Where::interior
+            ? projection_[i].relative_curvature
+            : std::numeric_limits<double>::infinity();
   request_soft_switches();
   warm_ = last_;
   std::fill(jump_.begin(), jump_.end(), 0.0);
@@ -166,12 +175,14 @@ void Coupling::accept(const State& state) {
 
 void Coupling::reject() {
   failed_jumps_.clear();
+  std::vector<int> jumped;
   for (std::size_t i = 0; i < quad_.size(); ++i)
     if (jump_[i] > 0) {
       failed_jumps_.emplace_back(quad_[i].xi, jump_[i]);
-      // The soft minimum exists for this: the retry evaluates the point with it.
-      if (soft_width_ > 0 && soft_of_[i] < 0 && warm_[i]) soft_requests_.emplace_back(static_cast<int>(i), *warm_[i]);
+      jumped.push_back(static_cast<int>(i));
     }
+  // The soft minimum exists for this: the retry evaluates such points with it.
+  if (soft_width_ > 0 && !jumped.empty()) request_switches_after_jumps(jumped);
   withdraw();
 }
 

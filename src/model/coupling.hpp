@@ -82,10 +82,12 @@ class Coupling final : public Interaction {
   void restore_state(const std::vector<double>& state) override;
 
   // Soft minimum (interaction/soft_distance.hpp, RF2 only): a beam point whose converged closest point
-  // has relative curvature below `below`, or whose closest point jumped in a failed attempt, is evaluated
-  // from then on with the soft distance of Gibbs width `width` (relative to the law's equilibrium
-  // distance) over a window of the shell around it, fixed during each step.
-  void enable_soft_minimum(double width, double below);
+  // has relative curvature below `below` is evaluated from then on with the soft distance of Gibbs width
+  // `width` (relative to the law's equilibrium distance) over a window of the shell around it, fixed
+  // during each step. After a failed attempt in which closest points jumped, the points whose relative
+  // curvature at the last converged state is below `below_on_failure` (>= below) switch as well, or, where
+  // none is, the points that jumped (request_switches_after_jumps).
+  void enable_soft_minimum(double width, double below, double below_on_failure);
   int soft_points() const { return static_cast<int>(soft_.size()); }
 
   const std::vector<CouplingPoint>& points() const { return points_; }
@@ -167,8 +169,13 @@ class Coupling final : public Interaction {
   void build_soft_elements();
   // After a converged step: points to switch to the soft minimum and windows to re-centre.
   void request_soft_switches();
+  // After a failed attempt in which the points `jumped` jumped: the points to switch for the retry.
+  void request_switches_after_jumps(const std::vector<int>& jumped);
   std::vector<SoftGroup> soft_groups_;
-  double soft_width_ = 0, soft_below_ = 0;  // width 0: off
+  double soft_width_ = 0, soft_below_ = 0, soft_below_on_failure_ = 0;  // width 0: off
+  // Each point's relative curvature at the last converged state (+infinity: not interior, soft, or no
+  // state converged yet); saved in checkpoints, since a failed attempt after a restart reads it.
+  std::vector<double> converged_curvature_;
   std::vector<SoftPoint> soft_;
   std::vector<int> soft_of_;                                   // per quadrature point: index into soft_, or -1
   std::vector<std::pair<int, Eigen::Vector2d>> soft_requests_;  // (point, centre) to (re)window

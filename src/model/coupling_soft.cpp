@@ -119,6 +119,22 @@ void Coupling::request_soft_switches() {
   if (!soft_requests_.empty()) soft_requests_.insert(soft_requests_.end(), along.begin(), along.end());
 }
 
+// A failed attempt's jumps say where the closest-point model fails, but which points jump depends on how
+// far the attempt wandered (its iterates, Newton's stall and iteration limits). So the points that switch
+// are those whose relative curvature at the last converged state is below `below_on_failure`: a set that
+// depends on that state alone. Only where that set is empty do the points that jumped switch.
+void Coupling::request_switches_after_jumps(const std::vector<int>& jumped) {
+  bool any = false;
+  for (std::size_t i = 0; i < quad_.size(); ++i)
+    if (soft_of_[i] < 0 && warm_[i] && converged_curvature_[i] <= soft_below_on_failure_) {
+      soft_requests_.emplace_back(static_cast<int>(i), *warm_[i]);
+      any = true;
+    }
+  if (any) return;
+  for (int i : jumped)
+    if (soft_of_[i] < 0 && warm_[i]) soft_requests_.emplace_back(i, *warm_[i]);
+}
+
 std::vector<double> Coupling::event_margins() const {
   if (soft_width_ <= 0) return {};
   std::vector<double> margins(quad_.size(), std::numeric_limits<double>::infinity());

@@ -1,7 +1,7 @@
 // The coupling's state between steps, saved to a checkpoint and restored from it: per quadrature point
 // the warm start of the next projection (the last converged one and the last evaluated one) and the beam
 // point's last position; the pairs' pattern; the soft-minimum points and the switches requested at the
-// last accept().
+// last accept(); each point's relative curvature there (the switches after a failed attempt read it).
 #include <algorithm>
 
 #include "common/error.hpp"
@@ -51,6 +51,7 @@ std::vector<double> Coupling::save_state() const {
     w.add(centre);
   }
   w.add(soft_changed_ ? 1.0 : 0.0);
+  for (double lambda : converged_curvature_) w.add(lambda);
   return w.take();
 }
 
@@ -92,6 +93,7 @@ void Coupling::restore_state(const std::vector<double>& state) {
     centre.y() = r.next();
   }
   soft_changed_ = r.next() != 0.0;
+  for (double& lambda : converged_curvature_) lambda = r.next();
   r.finish();
   build_soft_elements();
   std::fill(jump_.begin(), jump_.end(), 0.0);

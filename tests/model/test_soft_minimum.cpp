@@ -3,8 +3,11 @@
 // input checks, and the bending example, which stalls at the fiber's end without it, reaching t = 1 with it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+
+#include <fmt/format.h>
 
 #include "case_runner.hpp"
 #include "common/overlap_groups.hpp"
@@ -79,6 +82,84 @@ TEST(SoftMinimum, WindowsApartGetElementsApart) {
   EXPECT_TRUE(overlap_groups({}).empty());
 }
 
+// The points that switch after a failed attempt in which closest points jumped: those whose relative
+// curvature at the last converged state is at most below_on_failure, whichever points jumped. The fiber lies
+// inside the cylindrical panel (relative curvature 1 - d / R ~ 0.71, d ~ 0.86-0.9 varying along it), below:
+// 0.5 switches none at the converged state, and below_on_failure is the median of the points' curvatures
+// there. Two attempts slide the panel along its axis under the fixed fiber by 0.15 (> the jump's 0.1 d): the
+// whole panel (every closest point jumps) and its half x > 1 (some jump). Both switch the same points, the
+// half below the median, also after the coupling's state was saved at the converged state and restored
+// into a model read afresh (a restart); switching the points that jumped (the fallback, below_on_failure:
+// 0.5, where no point's curvature is that low) gives every point and some points.
+struct SwitchAfterJumps {
+  int jumped = 0;                  // closest points that jumped in the attempt (failure_hint)
+  std::vector<bool> soft;          // per beam point: switched for the retry
+  std::vector<double> curvatures;  // per beam point: relative curvature at the converged state
+};
+
+SwitchAfterJumps switch_after_jumps(const std::string& name, const std::string& below_on_failure, bool whole_panel,
+                                    bool restart = false) {
+  const auto dir = fresh_directory("soft-minimum-" + name);
+  std::string text = beam_over_panel_case(", soft_minimum: {width: 5.0e-3, below: 0.5, below_on_failure: " +
+                                         below_on_failure + "}");
+  const std::string over = "from: [0.2, 0.1, 3.86], to: [1.8, -0.2, 3.9]";
+  text.replace(text.find(over), over.size(), "from: [0.2, 0.1, 2.14], to: [1.8, -0.2, 2.1]");
+  std::ofstream(dir / "case.yaml") << text;
+  auto c = casefile::read_case((dir / "case.yaml").string()), restarted = casefile::read_case((dir / "case.yaml").string());
+  model::Model& m = *c.model;
+  auto* coupling = &dynamic_cast<model::Coupling&>(*m.interactions()[0]);
+  const Eigen::VectorXd rest = Eigen::VectorXd::Zero(m.dofs.size());
+  Eigen::VectorXd slid = rest;
+  const model::ShellBody& panel = m.shells[0];
+  for (int cp = 0; cp < panel.num_control_points(); ++cp)
+    if (whole_panel || panel.surface.control_points()[cp].x() > 1.0) slid[m.dofs.dof(panel.block, cp, 0)] = 0.15;
+  const model::State at_rest{rest, 1.0, m.dofs, m.functions}, moved{slid, 1.0, m.dofs, m.functions};
+  SwitchAfterJumps out;
+  coupling->update(at_rest);
+  for (double margin : coupling->event_margins()) out.curvatures.push_back(margin + 0.5);
+  coupling->accept(at_rest);
+  if (restart) {  // the checkpoint's state, restored into a model read afresh from the case
+    auto& fresh = dynamic_cast<model::Coupling&>(*restarted.model->interactions()[0]);
+    fresh.restore_state(coupling->save_state());
+    coupling = &fresh;
+  }
+  coupling->update(moved);  // the failed attempt's iterate
+  coupling->reject();
+  const std::string hint = coupling->failure_hint();
+  out.jumped = hint.empty() ? 0 : std::stoi(hint.substr(hint.find("closest points of ") + 18));
+  coupling->update(at_rest);  // the retry's first evaluation switches the requested points
+  for (double margin : coupling->event_margins()) out.soft.push_back(std::isnan(margin));
+  return out;
+}
+
+TEST(SoftMinimum, SwitchesAfterAFailedAttemptFollowTheConvergedState) {
+  const auto probe = switch_after_jumps("jumps-probe", "0.5", true);
+  const int n = static_cast<int>(probe.curvatures.size());
+  ASSERT_GT(n, 8);
+  std::vector<double> sorted = probe.curvatures;
+  std::sort(sorted.begin(), sorted.end());
+  ASSERT_GT(sorted.front(), 0.5);
+  ASSERT_LT(sorted.back(), 1.0);
+  ASSERT_LT(sorted[n / 2 - 1], sorted[n / 2]) << "the curvatures must differ along the fiber";
+  const std::string median = fmt::format("{:.17g}", 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]));
+  for (bool whole_panel : {true, false}) {
+    const auto r = switch_after_jumps("jumps-median", median, whole_panel);
+    const auto after_restart = switch_after_jumps("jumps-restart", median, whole_panel, true);
+    EXPECT_EQ(after_restart.soft, r.soft) << "a restart between the converged state and the attempt";
+    if (whole_panel) {
+      EXPECT_EQ(r.jumped, n);
+    } else {
+      EXPECT_GT(r.jumped, 0);
+      EXPECT_LT(r.jumped, n);
+    }
+    for (int i = 0; i < n; ++i) EXPECT_EQ(r.soft[i], r.curvatures[i] < sorted[n / 2]) << "point " << i;
+  }
+  // The fallback, where no point's curvature is below below_on_failure: the points that jumped.
+  EXPECT_EQ(std::count(probe.soft.begin(), probe.soft.end(), true), n);
+  const auto some = switch_after_jumps("jumps-fallback", "0.5", false);
+  EXPECT_EQ(std::count(some.soft.begin(), some.soft.end(), true), some.jumped);
+}
+
 void expect_input_error(const std::string& name, const std::string& soft, const std::string& message) {
   const auto dir = fresh_directory("soft-minimum-" + name);
   std::ofstream(dir / "case.yaml") << beam_over_panel_case(soft);
@@ -97,14 +178,15 @@ TEST(SoftMinimum, BadInputIsRejected) {
                      "soft_minimum.width: expected a number in (0, 0.005], got 0.01");
   expect_input_error("below", ", soft_minimum: {width: 1.0e-3, below: 0}",
                      "soft_minimum.below: expected a positive number, got 0");
+  expect_input_error("below-on-failure", ", soft_minimum: {width: 1.0e-3, below: 0.1, below_on_failure: 0.05}",
+                     "soft_minimum.below_on_failure: expected a relative curvature no smaller than below (0.1), got 0.05");
 }
 
 // 32x8x8 stalls at t ~ 0.89 without the soft minimum (BendingExample.StallAtTheFibersEnd...); with the
 // example's soft minimum it reaches t = 1, and only points at the fiber's end (the last element's) switch.
-// (~5 s on one thread.) Newton's global updates: the soft points switch in the retry of the step that
-// failed at t = 0.8875 with the fiber's tip jumping. With the example's local first update that step
-// converges, and the tip's jump is met at t = 0.9475 instead, by an attempt whose iterates wander and
-// flag jumps along the fiber's last third as well.
+// (~5 s on one thread.) With Newton's global updates (the example's local first update taken out) one
+// point of the fiber's last element switches, by its relative curvature at a converged step; the step to
+// t = 0.96125 fails once (a beam point inside the plate) and converges at half its length.
 TEST(SoftMinimum, CarriesTheBendingExamplePastTheFibersEnd) {
   const auto r = run_yaml("bending-soft", example_text("bending.yaml", {
       {"  local_first_update: 0.1\n", ""},
