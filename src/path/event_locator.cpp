@@ -25,6 +25,7 @@ double EventLocator::earliest() const {
     if (bracket) {
       const double near = at(g_last_, k), far = g_far_[k];
       if (!(far <= 0)) continue;  // not crossed before t_far (or happened before)
+      if (k < g_last_.size() && std::isnan(near)) continue;  // happened since t_far bounded the bracket
       t = std::isfinite(near) && near > 0 ? t_last_ + (t_far_ - t_last_) * near / (near - far)  // regula falsi
                                           : 0.5 * (t_last_ + t_far_);  // no margin known at t_last: bisect
     } else {

@@ -7,7 +7,9 @@
 //
 // Each event's crossing is estimated from its own margins: by regula falsi between the last converged
 // state (g > 0) and a withdrawn attempt past it (bisection where the last state has no margin for it), or
-// else by extrapolating g linearly through the last two converged states.
+// else by extrapolating g linearly through the last two converged states. An event that has happened
+// (NaN at the last converged state) no longer counts, though the withdrawn attempt's margin for it
+// stays negative.
 // - Before a step: where the earliest estimate lies within the step, the step ends half a tolerance, and
 //   at least kEarly of the way, before it; where it lies within a tolerance, the step is one tolerance long.
 // - After a converged attempt: one in which an event crossed in a step longer than the tolerance is
@@ -26,6 +28,8 @@ class EventLocator {
   /// `tolerance`: how far from its crossing (in t) an event may happen; 0 switches location off.
   explicit EventLocator(double tolerance = 0) : tolerance_(tolerance) {}
 
+  /// How far from its crossing an event may happen (0: location off).
+  double tolerance() const { return tolerance_; }
   /// A run from t with nothing known.
   void start(double t);
   /// The step to try from t (the last converged state) instead of the planned `dt`.

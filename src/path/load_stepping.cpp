@@ -222,6 +222,10 @@ ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, L
     Attempt at;
     at.dt_plan = std::min(dt_, sc.t_end - t_);
     at.dt = events_.step(t_, at.dt_plan);
+    // The first step on a model changed by a located event is one tolerance long: its Newton correction,
+    // which moves the past states (advance), is then the jump between the two models' paths with little
+    // of the step's own prediction error.
+    if (located_change_) at.dt = std::min(at.dt, events_.tolerance());
     at.shortened = at.dt < at.dt_plan;  // for an event ahead: the planned dt_ stands for the steps after it
     if (!attempt(sys, q, solver, at, res)) return res;
     advance(sys, q, at);

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "path/load_stepping.hpp"
@@ -112,46 +114,89 @@ TEST(EventLocation, WithoutToleranceTheSwitchFollowsTheSteps) {
   EXPECT_EQ(run(0.25, 0).result.withdrawn_attempts, 0);
 }
 
-// Two events on a line q = t that does not change: g_a = 0.35 - q^2 and g_b = 0.8 - q. Each is located on
-// its own, from its own margins: the earlier one's location does not hide the later one.
-TEST(EventLocation, EachEventIsLocatedOnItsOwn) {
-  class TwoEvents final : public NonlinearSystem {
-   public:
-    TwoEvents() : r_(1), k_(1, 1) { k_.insert(0, 0) = 1.0; }
-    int size() const override { return 1; }
-    void evaluate(const Eigen::VectorXd& q, double t, bool) override { q_ = q[0], r_[0] = q_ - t; }
-    const Eigen::VectorXd& residual() const override { return r_; }
-    const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
-    int pattern_version() const override { return 0; }
-    std::vector<double> event_margins() const override {
-      return {a_ ? NAN : 0.35 - q_ * q_, b_ ? NAN : 0.8 - q_};
-    }
-    void accept(const Eigen::VectorXd& q, double) override {
-      if (!a_ && 0.35 - q[0] * q[0] <= 0) a_ = true, qa = q[0];
-      if (!b_ && 0.8 - q[0] <= 0) b_ = true, qb = q[0];
-    }
-    double qa = NAN, qb = NAN;
+// Two events on the line q = t, which does not change: margins g_a(q) and g_b(q), each NaN once it has
+// happened (at the first accepted state where it is <= 0). Records the q of each event and every accepted t.
+class TwoEventsOnALine final : public NonlinearSystem {
+ public:
+  TwoEventsOnALine(std::function<double(double)> a, std::function<double(double)> b)
+      : g_{std::move(a), std::move(b)}, r_(1), k_(1, 1) {
+    k_.insert(0, 0) = 1.0;
+  }
+  int size() const override { return 1; }
+  void evaluate(const Eigen::VectorXd& q, double t, bool) override { q_ = q[0], r_[0] = q_ - t; }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  int pattern_version() const override { return 0; }
+  std::vector<double> event_margins() const override {
+    return {std::isnan(qa) ? g_[0](q_) : NAN, std::isnan(qb) ? g_[1](q_) : NAN};
+  }
+  void accept(const Eigen::VectorXd& q, double t) override {
+    accepted.push_back(t);
+    if (std::isnan(qa) && g_[0](q[0]) <= 0) qa = q[0];
+    if (std::isnan(qb) && g_[1](q[0]) <= 0) qb = q[0];
+  }
+  double qa = NAN, qb = NAN;
+  std::vector<double> accepted;
 
-   private:
-    double q_ = 0;
-    bool a_ = false, b_ = false;
-    Eigen::VectorXd r_;
-    Eigen::SparseMatrix<double> k_;
-  };
+ private:
+  std::function<double(double)> g_[2];
+  double q_ = 0;
+  Eigen::VectorXd r_;
+  Eigen::SparseMatrix<double> k_;
+};
+
+// A run of `line` to t = 1 with steps of up to dt_max and a tolerance of 1e-3.
+ContinuationResult run_located(TwoEventsOnALine& line, double dt_max) {
+  StepControl sc;
+  sc.dt_initial = sc.dt_max = dt_max;
+  sc.event_tolerance = 1e-3;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+  return LoadStepping(sc, NewtonOptions{}).run(line, q, *solver, nullptr);
+}
+
+// g_a = 0.35 - q^2 and g_b = 0.8 - q. Each is located on its own, from its own margins: the earlier one's
+// location does not hide the later one.
+TEST(EventLocation, EachEventIsLocatedOnItsOwn) {
   for (double dt_max : {0.05, 0.15}) {
     SCOPED_TRACE(dt_max);
-    TwoEvents two;
-    StepControl sc;
-    sc.dt_initial = sc.dt_max = dt_max;
-    sc.event_tolerance = 1e-3;
-    auto solver = make_linear_solver("auto", true);
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
-    EXPECT_TRUE(LoadStepping(sc, NewtonOptions{}).run(two, q, *solver, nullptr).completed());
+    TwoEventsOnALine two([](double q) { return 0.35 - q * q; }, [](double q) { return 0.8 - q; });
+    EXPECT_TRUE(run_located(two, dt_max).completed());
     EXPECT_GE(two.qa, std::sqrt(0.35));
     EXPECT_LE(two.qa, std::sqrt(0.35) + 1e-3);
     EXPECT_GE(two.qb, 0.8);
     EXPECT_LE(two.qb, 0.8 + 1e-3);
   }
+}
+
+// Two events that one withdrawn attempt crosses together: g_a = 0.3 - q^2 and g_b = 0.32 - q^2 (crossings
+// at 0.5477 and 0.5657). With steps of 0.15 the linear estimate from t = 0.3 and 0.45 puts a at 0.58, so
+// the attempt to 0.5735 crosses both and bounds the bracket. Once a has happened (its margin NaN), the
+// bracket's far end still holds its old negative margin; it must not bisect toward it as if a were still
+// to come (that put a step at 0.560 before b's landing). Each event still happens within the tolerance of
+// its crossing; between the two switches lie only the first step on the changed model (one tolerance
+// long) and b's landing, and after b's switch one such step and the planned one.
+TEST(EventLocation, AnEventThatHappenedNoLongerBoundsTheBracket) {
+  TwoEventsOnALine two([](double q) { return 0.3 - q * q; }, [](double q) { return 0.32 - q * q; });
+  const ContinuationResult res = run_located(two, 0.15);
+  ASSERT_TRUE(res.completed()) << res.message;
+  EXPECT_GE(res.withdrawn_attempts, 1);
+  EXPECT_GE(two.qa, std::sqrt(0.3));
+  EXPECT_LE(two.qa, std::sqrt(0.3) + 1e-3);
+  EXPECT_GE(two.qb, std::sqrt(0.32));
+  EXPECT_LE(two.qb, std::sqrt(0.32) + 1e-3);
+  std::string steps;
+  int between = 0;
+  double after_b = NAN, next = NAN;
+  for (double t : two.accepted) {
+    steps += std::to_string(t) + " ";
+    if (t > two.qa && t < two.qb) ++between;
+    if (t > after_b && std::isnan(next)) next = t;
+    if (t > two.qb && std::isnan(after_b)) after_b = t;
+  }
+  EXPECT_EQ(between, 2) << "accepted steps: " << steps;  // the first step after a's switch, b's landing
+  EXPECT_NEAR(after_b - two.qb, 1e-3, 1e-12) << "accepted steps: " << steps;  // the first after b's switch
+  EXPECT_NEAR(next - after_b, 0.15, 1e-12) << "accepted steps: " << steps;
 }
 
 // Stopped after any step and continued from the saved state (inside a bracket after a withdrawn attempt
@@ -232,12 +277,13 @@ TEST(EventLocation, AParabolaLeavesOutStatesBunchedAgainstTheStep) {
 }
 
 // On q = t^2 the model changes once g = 0.09 - q <= 0 (t = 0.3) to q = t^2 + J: the path jumps by J there.
-// With the event located, the states before the change are moved by the first step's Newton correction:
-// J plus that step's own prediction error e. The next step starts at e |1 - w| (w the new state's weight
-// in the parabola) where the unmoved states would give J |w - 1|, and the steps start at round-off once
-// the moved states have left the predictor. Without location the parabola keeps the states as they are:
-// the second step after the change (steps of 0.1) starts at 2 J, the jump times its weight 3 at t = 0.5
-// less the jump.
+// With the event located, the first step on the changed model is one tolerance long, and the states before
+// the change are moved by its Newton correction: J plus that step's own prediction error e. The next step
+// (0.1, longer than twice the last two states' span) predicts by the secant through a moved state and the
+// new one, and starts at its error on t^2 plus e times the moved state's weight; the one after it, by the
+// parabola, at e times that state's weight; the steps start at round-off once the moved states have left
+// the predictor. Without location the parabola keeps the states as they are: the second step after the
+// change (steps of 0.1) starts at 2 J, the jump times its weight 3 at t = 0.5 less the jump.
 TEST(EventLocation, APredictorMovesThePastStatesAcrossALocatedChange) {
   constexpr double J = 0.05;
   class JumpingParabola final : public NonlinearSystem {
@@ -296,18 +342,19 @@ TEST(EventLocation, APredictorMovesThePastStatesAcrossALocatedChange) {
   std::size_t after = 0;  // the first step after the change
   while (after < s.size() && !(s[after].first > located.t_switch)) ++after;
   ASSERT_LT(after + 3, s.size());
-  // The first step past the change: the old path's prediction (the secant, as the crossing's states are
-  // bunched) misses the jump J and its own error e on t^2.
+  // The first step past the change, one tolerance long: the old path's prediction misses the jump J and
+  // its own error e on t^2.
+  const double t1 = s[after - 1].first, t2 = s[after].first, t = s[after + 1].first, t3 = s[after + 2].first;
+  EXPECT_NEAR(t2 - t1, 1e-3, 1e-12);
   const double e = s[after].second - J;
   EXPECT_GT(e, 0.0);
-  EXPECT_LT(e, 0.25 * J);
-  // The next step's parabola: the two moved states lie on t^2 + J + e, the new one on t^2 + J, so it starts
-  // at e |1 - w|, w the new state's weight at t; through the unmoved states it would start at J |w - 1|.
-  const double t0 = s[after - 2].first, t1 = s[after - 1].first, t2 = s[after].first, t = s[after + 1].first;
-  ASSERT_GE(t2 - t0, 0.5 * (t - t2));  // all three states in the parabola (kSpanForCurvature)
-  const double w = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
-  EXPECT_GT(w, 2.0);
-  EXPECT_NEAR(s[after + 1].second, e * std::abs(1 - w), 1e-12);
+  EXPECT_LT(e, 1e-3 * J);
+  // The next step's secant through the moved state at t1 (on t^2 + J + e) and the new one at t2 (on
+  // t^2 + J): its error on t^2, (t - t1)(t - t2), plus e times the moved state's weight (t - t2) / (t2 - t1).
+  ASSERT_GT(t - t2, 2 * (t2 - t1));
+  EXPECT_NEAR(s[after + 1].second, (t - t1) * (t - t2) + e * (t - t2) / (t2 - t1), 1e-12);
+  // The parabola through t1, t2 and t is exact on t^2: e times the moved state's weight at t3.
+  EXPECT_NEAR(s[after + 2].second, e * std::abs((t3 - t2) * (t3 - t) / ((t1 - t2) * (t1 - t))), 1e-12);
   for (std::size_t k = after + 3; k < s.size(); ++k) {  // no moved state left in the parabola
     SCOPED_TRACE(s[k].first);
     EXPECT_LT(s[k].second, 1e-12);
