@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli_util.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -66,9 +67,7 @@ TEST_P(HostileCase, InputErrorLocatedBoundedNothingWritten) {
   const fs::path source = corpus_dir() / name;
   const std::string expected = expected_message(source);
   ASSERT_FALSE(expected.empty()) << name << ": the first line must say '... -> expect: <message>'";
-  const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / fs::path(name).stem();
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_directory("hostile-" + fs::path(name).stem().string());
   fs::copy_file(source, dir / name);
   const auto r = run_cli_command("cd '" + dir.string() + "' && bash -c \"" + limits() + " '" + fibrane_binary() +
                                  "' run '" + name + "' -q --threads 1\"");
@@ -94,9 +93,7 @@ TEST(HostileCorpus, HasAtLeastSixtyCases) { EXPECT_GE(corpus().size(), 60u); }
 // size before parsing) and a 1.2 million-item list under 16 MiB (refused by its node count).
 TEST(HostileGenerated, LargeFilesAreRefusedQuickly) {
   if (fibrane_binary().empty()) GTEST_SKIP();
-  const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / "generated";
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = fresh_directory("hostile-generated");
   const std::pair<const char*, std::size_t> cases[] = {{"huge.yaml", 25'000'000}, {"many.yaml", 1'200'000}};
   for (const auto& [name, items] : cases) {
     {
@@ -121,8 +118,7 @@ TEST(HostileGenerated, LargeFilesAreRefusedQuickly) {
 // writer would block, so the file's type is checked first (nothing ever writes to this FIFO).
 TEST(HostileGenerated, CaseFileThatIsNotARegularFileIsRefusedAtOnce) {
   if (fibrane_binary().empty()) GTEST_SKIP();
-  const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / "not-regular";
-  fs::remove_all(dir);
+  const fs::path dir = fresh_directory("hostile-not-regular");
   fs::create_directories(dir / "folder.yaml");
   ASSERT_EQ(mkfifo((dir / "fifo.yaml").c_str(), 0600), 0);
   using Expected = std::pair<const char*, const char*>;
@@ -148,9 +144,7 @@ TEST(HostileRuns, OverflowingDynamicsStepEndsAsAFailedRun) {
   if (fibrane_binary().empty()) GTEST_SKIP();
   for (const auto& [dt, dt_min] : {std::pair<std::string, std::string>{"1.0e100", "1.0e99"}, {"1.0e90", "1.0e89"},
                                    {"1.0e70", "1.0e69"}}) {
-    const fs::path dir = fs::temp_directory_path() / "fibrane-hostile" / ("huge-dt-" + dt);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
+    const fs::path dir = fresh_directory("hostile-huge-dt-" + dt);
     std::ifstream in(corpus_dir() / ".." / "hostile_runs" / "dynamics_huge_dt.yaml");
     std::stringstream text;
     text << in.rdbuf();

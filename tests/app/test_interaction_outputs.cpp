@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "cli_util.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -76,9 +77,7 @@ std::string json_value(const std::string& json, const std::string& key) {
 
 TEST(InteractionOutputs, PointsBeyondThePatchAreCountedMarkedAndReported) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
-  const auto dir = std::filesystem::temp_directory_path() / "fibrane-lost-points";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = fresh_directory("lost-points");
   std::ofstream(dir / "case.yaml") << kOverhangingFiber;
   const auto run = run_cli("run '" + (dir / "case.yaml").string() + "' -q --threads 1 -o '" + (dir / "out").string() + "'");
   ASSERT_EQ(run.exit_code, 0) << run.output;

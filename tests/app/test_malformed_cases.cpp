@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "cli_util.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -122,9 +123,7 @@ TEST_P(MalformedCase, ClearMessageExitCodeTwoNoOutput) {
   const auto at = text.find(m.from);
   ASSERT_NE(at, std::string::npos) << m.from;
   text.replace(at, std::string(m.from).size(), m.to);
-  const auto dir = std::filesystem::temp_directory_path() / (std::string("fibrane-bad-") + m.name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = fresh_directory(std::string("bad-") + m.name);
   const auto file = dir / "case.yaml";
   std::ofstream(file) << text;
   const auto out = dir / "out";
@@ -140,9 +139,7 @@ INSTANTIATE_TEST_SUITE_P(Cases, MalformedCase, ::testing::ValuesIn(cases),
 
 TEST(Cli, ValidCaseRunsAndMissingFileIsInputError) {
   if (fibrane_binary().empty()) GTEST_SKIP();
-  const auto dir = std::filesystem::temp_directory_path() / "fibrane-good";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const auto dir = fresh_directory("good");
   std::ofstream(dir / "case.yaml") << valid_case;
   const auto ok = run_cli("run '" + (dir / "case.yaml").string() + "' -q -o '" + (dir / "out").string() + "'");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_util.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -47,7 +48,7 @@ void PrintTo(const MethodCase& c, std::ostream* os) { *os << c.name; }
 // row and one row per step.
 TEST_P(MaxSteps, BoundsTheRunOfEveryMethod) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
-  const auto out = std::filesystem::temp_directory_path() / (std::string("fibrane-max-steps-") + GetParam().name);
+  const auto out = fresh_directory(std::string("max-steps-") + GetParam().name);
   const auto run = run_roof(GetParam().steps, out, 3);
   EXPECT_EQ(run.exit_code, 1) << run.output;
   EXPECT_NE(run.output.find("max_steps = 3"), std::string::npos) << run.output;
@@ -64,7 +65,7 @@ INSTANTIATE_TEST_SUITE_P(
 // --max-steps 0 is a usage error (exit 2) that states the range readably, and nothing is written.
 TEST(MaxStepsOption, ZeroIsRefusedWithItsRange) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
-  const auto out = std::filesystem::temp_directory_path() / "fibrane-max-steps-zero";
+  const auto out = fresh_directory("max-steps-zero");
   const auto run = run_roof("steps: {t_end: 1.0, dt: 0.01}\n", out, 0);
   EXPECT_EQ(run.exit_code, 2) << run.output;
   EXPECT_NE(run.output.find("--max-steps: Value 0 not in range 1 to 100000000"), std::string::npos) << run.output;

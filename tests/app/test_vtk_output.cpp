@@ -9,6 +9,7 @@
 #include <sys/resource.h>
 
 #include "cli_util.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
 namespace {
@@ -23,8 +24,7 @@ std::string slurp(const std::filesystem::path& p) {
 TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   if (fibrane_binary().empty()) GTEST_SKIP() << "FIBRANE_BIN not set (run through ctest)";
   if (std::system("/usr/bin/python3 -c 'import vtk' > /dev/null 2>&1") != 0) GTEST_SKIP() << "python3-vtk9 missing";
-  const auto out = std::filesystem::temp_directory_path() / "fibrane-vtk-rollup";
-  std::filesystem::remove_all(out);
+  const auto out = fresh_directory("vtk-rollup") / "out";
   const std::string example = std::string(FIBRANE_SOURCE_DIR) + "/examples/rollup-strip.yaml";
   const auto run = run_cli("run '" + example + "' -q -o '" + out.string() + "'");
   ASSERT_EQ(run.exit_code, 0) << run.output;
@@ -69,7 +69,7 @@ TEST(Outputs, RollUpExampleWritesHistorySummaryAndVtkThatVtkReads) {
   // A shorter run into the same directory leaves none of the first run's steps behind (and keeps files
   // that are not a run's step files).
   std::ofstream(out / "vtk" / "notes.txt") << "mine";
-  const auto shorter = out.parent_path() / "fibrane-vtk-rollup-short.yaml";
+  const auto shorter = out.parent_path() / "short.yaml";
   std::string text = slurp(example);
   const std::string from = "t_end: 1.0";
   ASSERT_NE(text.find(from), std::string::npos);

@@ -2,7 +2,6 @@
 // Test helpers: run a case (an example file, optionally edited, or YAML text) in a fresh temporary
 // directory through the library, and read its history.csv back as columns.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,25 +18,9 @@
 
 #include "case/case_reader.hpp"
 #include "run/run.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane::testing {
-
-// A fresh directory for a case and its output, named by this process so that two test runs side by side
-// (a CI run beside a developer's) do not share it. The directories are removed when the process exits
-// with every test passed, and kept for inspection otherwise.
-inline std::filesystem::path fresh_directory(const std::string& name) {
-  static std::vector<std::filesystem::path> made;
-  if (made.empty())
-    std::atexit([] {
-      if (::testing::UnitTest::GetInstance()->Passed())
-        for (const auto& dir : made) std::filesystem::remove_all(dir);
-    });
-  const auto dir = std::filesystem::temp_directory_path() / ("fibrane-test-" + name + "-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  made.push_back(dir);
-  return dir;
-}
 
 inline std::string read_text(const std::filesystem::path& p) {
   std::ifstream in(p);

@@ -18,6 +18,7 @@
 #include "common/parallel_errors.hpp"
 #include "run/run.hpp"
 #include "linalg/linear_solver.hpp"
+#include "temp_directory.hpp"
 
 namespace fibrane {
 namespace {
@@ -84,8 +85,7 @@ class FailingSolver : public solve::LinearSolver {
 // An exception during the march ends the run as failed after its last finished step, with summary.json
 // saying why (the command line then exits with 1).
 TEST(RunErrors, AnExceptionDuringTheMarchEndsTheRunAsFailedWithASummary) {
-  const auto dir = std::filesystem::temp_directory_path() / "fibrane-test-run-error";
-  std::filesystem::remove_all(dir);
+  const auto dir = fibrane::testing::fresh_directory("run-error") / "out";
   casefile::Case c = casefile::read_case(std::string(FIBRANE_SOURCE_DIR) + "/examples/rollup-strip.yaml");
   run::RunOptions options;
   options.output_directory = dir.string();
