@@ -1,39 +1,15 @@
 #pragma once
-// A fresh empty directory per test, removed afterwards, plus small file helpers for the io tests.
-#include <gtest/gtest.h>
-#include <unistd.h>
-
+// Small file helpers for the io tests, and their per-test scratch directory (tests/temp_directory.hpp).
 #include <cstdlib>
-
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
+#include "temp_directory.hpp"
+
 namespace fibrane::io::testing {
 
-class ScratchDir {
- public:
-  ScratchDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            (std::string("fibrane_io_") + info->test_suite_name() + "_" + info->name() + "_" +
-             std::to_string(::getpid()));
-    std::filesystem::remove_all(path_);
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchDir() { std::filesystem::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  const std::filesystem::path& path() const { return path_; }
-  std::size_t entry_count() const {
-    std::size_t n = 0;
-    for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(path_)) ++n;
-    return n;
-  }
-
- private:
-  std::filesystem::path path_;
-};
+using fibrane::testing::ScratchDir;
 
 inline std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
