@@ -65,12 +65,6 @@ void run_mpi(const RunCommandOptions& o) {
   casefile::Case c = read_everywhere(o, distribution, distributed, solver);
   const std::string& note = c.model->partition().note;
   if (distributed && session.rank() == 0 && !note.empty()) std::cerr << "fibrane: warning: " << note << "\n";
-  if (distributed && c.run.newton.local_share > 0) {
-    c.run.newton.local_share = 0;  // each process holds a summand of the tangent, not its rows
-    if (session.rank() == 0)
-      std::cerr << "fibrane: warning: steps.local_first_update is not used in a distributed run: its Newton "
-                   "updates are global (the converged steps are the same to Newton's tolerance)\n";
-  }
   apply_max_steps(c, o);
   run::RunOptions options = o.run;
   if (!o.restart_directory.empty()) {

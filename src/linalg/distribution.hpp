@@ -36,6 +36,9 @@ class Distribution {
   virtual void sum(std::span<double> /*values*/) const {}
   // Collective: true on every process if `value` is true on every process.
   virtual bool all(bool value) const { return value; }
+  // Collective: every process's `values` one after the other, in the order of the processes' ranks, on
+  // every process (the processes may give different numbers of values).
+  virtual std::vector<double> gather(std::span<const double> values) const { return {values.begin(), values.end()}; }
   // Collective: the `text` of the lowest-ranked process whose text is not empty (empty if none).
   virtual std::string first_text(const std::string& text) const { return text; }
   // Collective: the part (0 <= part < size()) of every vertex of `graph`, the same on every process, with

@@ -244,7 +244,6 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
 
 void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");
-  if (rows && distribution_) throw std::logic_error("Model: a partial evaluation in a distributed run");
   using clock = std::chrono::steady_clock;
   auto lap = [last = clock::now()](double& into) mutable {
     const auto now = clock::now();
@@ -276,11 +275,13 @@ void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tang
   status_ = Status{};
   external_.setZero(dofs.size());
   const State s = state();
-  const std::vector<char> meets = rows ? elements_meeting(*rows) : std::vector<char>();
-  const std::vector<char>* only = rows ? &meets : nullptr;
+  // The elements to evaluate: this process's (distributed), of them those that meet `rows` (partial).
+  std::vector<char> meets = rows ? elements_meeting(*rows) : std::vector<char>();
+  if (rows && distribution_)
+    for (std::size_t k = 0; k < meets.size(); ++k) meets[k] = meets[k] && k < owned_.size() && owned_[k];
+  const std::vector<char>* only = rows ? &meets : distribution_ ? &owned_ : nullptr;
   for (auto& e : entries_) {
-    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, distribution_ ? &owned_ : only,
-                     distribution_);
+    ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, only, distribution_);
     if (e.contribution->energy_kind() == EnergyKind::external) sink.record_external(&external_, &e.dofs);
     energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
     lap(times_.*e.time);

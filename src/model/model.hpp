@@ -94,8 +94,12 @@ class Model : public solve::TransientSystem {
   void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override;
   const Eigen::VectorXd& residual() const override { return assembler_.reduced_residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
-  // Serial: only the elements whose free unknowns meet `rows` (model_local.cpp); distributed: evaluate().
+  // Only the elements whose free unknowns meet `rows` (model_local.cpp); distributed, those this process owns.
   void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) override;
+  void unite_flags(std::vector<char>& flags) const override;
+  // Distributed: the processes' parts gathered as (column, row, value) entries and summed in the order of
+  // the processes' ranks, the same on every process.
+  Eigen::SparseMatrix<double> sum_over_processes(Eigen::SparseMatrix<double> part) const override;
   bool tangent_finite() const override;
   Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const override;
   bool distributed() const override { return distribution_ && distribution_->size() > 1; }

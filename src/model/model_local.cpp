@@ -9,10 +9,32 @@
 namespace fibrane::model {
 
 void Model::evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) {
-  if (distribution_)
-    evaluate(q, t, true);
-  else
-    evaluate_elements(q, t, true, &rows);
+  evaluate_elements(q, t, true, &rows);
+}
+
+void Model::unite_flags(std::vector<char>& flags) const {
+  if (!distributed()) return;
+  std::vector<double> any(flags.begin(), flags.end());
+  distribution_->sum(any);
+  for (std::size_t i = 0; i < flags.size(); ++i) flags[i] = any[i] > 0.0 ? 1 : 0;
+}
+
+Eigen::SparseMatrix<double> Model::sum_over_processes(Eigen::SparseMatrix<double> part) const {
+  if (!distributed()) return part;
+  // Indices below 2^53 are exact in a double.
+  std::vector<double> entries;
+  entries.reserve(3 * static_cast<std::size_t>(part.nonZeros()));
+  for (int j = 0; j < part.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(part, j); it; ++it)
+      entries.insert(entries.end(), {static_cast<double>(j), static_cast<double>(it.row()), it.value()});
+  const std::vector<double> all = distribution_->gather(entries);
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(all.size() / 3);
+  for (std::size_t k = 0; k + 2 < all.size(); k += 3)
+    triplets.emplace_back(static_cast<int>(all[k + 1]), static_cast<int>(all[k]), all[k + 2]);
+  Eigen::SparseMatrix<double> sum(part.rows(), part.cols());
+  sum.setFromTriplets(triplets.begin(), triplets.end());  // duplicates summed in the triplets' order
+  return sum;
 }
 
 // Every element that adds to an entry (i, j) with i and j in `rows` has both among its unknowns.

@@ -33,6 +33,23 @@ bool MpiDistribution::all(bool value) const {
   return v == 1;
 }
 
+std::vector<double> MpiDistribution::gather(std::span<const double> values) const {
+  if (size_ == 1) return {values.begin(), values.end()};
+  if (values.size() > static_cast<std::size_t>(INT_MAX)) throw std::runtime_error("MPI: more than INT_MAX values to gather");
+  const int count = static_cast<int>(values.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_) + 1, 0);
+  check_mpi(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_), "MPI_Allgather");
+  for (int p = 0; p < size_; ++p) {
+    const auto k = static_cast<std::size_t>(p);
+    if (offsets[k] > INT_MAX - counts[k]) throw std::runtime_error("MPI: more than INT_MAX values to gather");
+    offsets[k + 1] = offsets[k] + counts[k];
+  }
+  std::vector<double> all(static_cast<std::size_t>(offsets.back()));
+  check_mpi(MPI_Allgatherv(values.data(), count, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_),
+            "MPI_Allgatherv");
+  return all;
+}
+
 std::string MpiDistribution::first_text(const std::string& text) const {
   if (size_ == 1) return text;
   int first = text.empty() ? size_ : rank_;

@@ -15,6 +15,7 @@ class MpiDistribution final : public solve::Distribution {
   // they test, too).
   void sum(std::span<double> values) const override;
   bool all(bool value) const override;
+  std::vector<double> gather(std::span<const double> values) const override;
   std::string first_text(const std::string& text) const override;
   // PT-Scotch through PETSc's MatPartitioning (graph_partition.hpp).
   std::vector<int> partition(const solve::Graph& graph, std::string& why) const override;

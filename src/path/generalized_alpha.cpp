@@ -69,6 +69,10 @@ class StepSystem final : public NonlinearSystem {
   bool tangent_finite() const override { return sys_.tangent_finite(); }
   Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const override { return sys_.tangent_times(x); }
   bool distributed() const override { return sys_.distributed(); }
+  void unite_flags(std::vector<char>& flags) const override { sys_.unite_flags(flags); }
+  Eigen::SparseMatrix<double> sum_over_processes(Eigen::SparseMatrix<double> part) const override {
+    return sys_.sum_over_processes(std::move(part));
+  }
   const Eigen::VectorXd& load_derivative() const override { return sys_.load_derivative(); }
   int pattern_version() const override { return sys_.pattern_version(); }
   bool symmetric() const override { return sys_.symmetric(); }

@@ -8,7 +8,7 @@
 namespace fibrane::solve {
 
 std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k,
-                            const LocalRowsOptions& options) {
+                            const LocalRowsOptions& options, const RowUnion& unite) {
   const int n = static_cast<int>(r.size());
   std::vector<char> in(static_cast<std::size_t>(n), 0);
   std::vector<int> frontier;
@@ -20,7 +20,9 @@ std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<
     }
   std::size_t count = frontier.size();
   const double wanted = options.share * n;
-  // Breadth first through k's columns: each layer adds the rows coupled to the last one's.
+  // Breadth first through k's columns: each layer adds the rows coupled to the last one's. The set after
+  // a layer does not depend on the order in which the frontier is visited.
+  std::vector<char> added(unite ? static_cast<std::size_t>(n) : 0, 0);
   for (int layer = 0; layer < options.max_layers && static_cast<double>(count) < wanted && !frontier.empty();
        ++layer) {
     std::vector<int> next;
@@ -32,6 +34,17 @@ std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<
           next.push_back(static_cast<int>(i));
         }
       }
+    if (unite) {  // the layer as the other processes' summands grow it too
+      for (const int i : next) added[static_cast<std::size_t>(i)] = 1;
+      unite(added);
+      next.clear();
+      for (int i = 0; i < n; ++i)
+        if (added[static_cast<std::size_t>(i)]) {
+          added[static_cast<std::size_t>(i)] = 0;
+          in[static_cast<std::size_t>(i)] = 1;
+          next.push_back(i);
+        }
+    }
     count += next.size();
     frontier.swap(next);
   }
@@ -42,14 +55,12 @@ std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<
   return rows;
 }
 
-bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k, bool symmetric,
-                  const std::vector<int>& rows, Eigen::VectorXd& dq) {
+Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double>& k, const std::vector<int>& rows) {
   const int m = static_cast<int>(rows.size());
-  if (m == 0) return false;
   std::vector<int> local(static_cast<std::size_t>(k.rows()), -1);
   for (int a = 0; a < m; ++a) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(a)])] = a;
-  // K_SS column by column: the rows of each of S's columns that lie in S keep k's row order, which the
-  // sorted `rows` map to increasing local indices.
+  // Column by column: the rows of each of S's columns that lie in S keep k's row order, which the sorted
+  // `rows` map to increasing local indices.
   Eigen::SparseMatrix<double> kss(m, m);
   std::vector<int> column_start(static_cast<std::size_t>(m) + 1, 0);
   for (int a = 0; a < m; ++a) {
@@ -69,6 +80,13 @@ bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k
       kss.valuePtr()[p++] = it.value();
     }
   }
+  return kss;
+}
+
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
+                  const std::vector<int>& rows, Eigen::VectorXd& dq) {
+  const int m = static_cast<int>(rows.size());
+  if (m == 0 || kss.rows() != m || kss.cols() != m) return false;
   Eigen::VectorXd rs(m);
   for (int a = 0; a < m; ++a) rs[a] = r[rows[static_cast<std::size_t>(a)]];
   auto solver = make_linear_solver("auto", symmetric);

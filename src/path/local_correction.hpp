@@ -14,6 +14,7 @@
 // at each step from the residual and the tangent alone: no mesh, no model.
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
+#include <functional>
 #include <vector>
 
 namespace fibrane::solve {
@@ -26,14 +27,23 @@ struct LocalRowsOptions {
   double seed_level = 1e-3;
   int max_layers = 64;
 };
+/// Where k is one process's summand of a matrix shared by several processes (NonlinearSystem::distributed),
+/// `unite` makes each layer the same on every process: called with the rows a layer adds here (flags of
+/// k's size, 1 for an added row), it flags the rows any process added. Every process calls it equally
+/// often, and the layers are then those of the sum's graph (the union of the summands' graphs). Empty
+/// (the default): k is the whole matrix.
+using RowUnion = std::function<void(std::vector<char>& added)>;
 std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k,
-                            const LocalRowsOptions& options);
+                            const LocalRowsOptions& options, const RowUnion& unite = {});
 
-/// The update dq with K_SS dq_S = -r_S on the rows S (sorted) and dq = 0 elsewhere, K_SS the principal
-/// submatrix of k on S, factorised by make_linear_solver("auto", symmetric) (LL^T, then LDL^T where it is
-/// indefinite; an LU for an unsymmetric k). False, dq untouched, where the factorisation fails or the
-/// update is not finite.
-bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k, bool symmetric,
+/// K_SS: the principal submatrix of k on the rows S (sorted), in their order.
+Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double>& k, const std::vector<int>& rows);
+
+/// The update dq with K_SS dq_S = -r_S on the rows S (sorted) and dq = 0 elsewhere, `kss` the principal
+/// submatrix on S of the tangent, factorised by make_linear_solver("auto", symmetric) (LL^T, then LDL^T
+/// where it is indefinite; an LU for an unsymmetric tangent). False, dq untouched, where the
+/// factorisation fails or the update is not finite.
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
                   const std::vector<int>& rows, Eigen::VectorXd& dq);
 
 }  // namespace fibrane::solve

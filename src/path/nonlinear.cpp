@@ -193,22 +193,27 @@ class NewtonIteration {
   }
 
   // Whether a solve's first update is local (NewtonOptions::local_share).
-  bool local_first() const { return opt_.local_share > 0 && !sys_.distributed(); }
+  bool local_first() const { return opt_.local_share > 0; }
 
   // The first update on the rows where |r| concentrates (NewtonOptions::local_share), from the tangent's
   // entries on those rows alone (NonlinearSystem::evaluate_tangent_on; the rows grow through the pattern
   // of the tangent last assembled); false where it cannot be made (a factorisation that fails, rows that
-  // are most of the unknowns): the iterate then takes the global update.
+  // are most of the unknowns): the iterate then takes the global update. Distributed, every process takes
+  // the same branches: the rows, K_SS and so the update are the same bits on all of them.
   bool local_step(int it) {
     const auto start = std::chrono::steady_clock::now();
     const Eigen::SparseMatrix<double>& pattern = sys_.tangent();
+    // Before a step's first tangent (the run's first iterate) there is no pattern, on any process.
     if (pattern.rows() != q_.size() || pattern.cols() != q_.size()) return false;
     const Eigen::VectorXd r = sys_.residual();
-    const std::vector<int> rows = local_rows(r, pattern, {.share = opt_.local_share});
+    RowUnion unite;
+    if (sys_.distributed()) unite = [this](std::vector<char>& added) { sys_.unite_flags(added); };
+    const std::vector<int> rows = local_rows(r, pattern, {.share = opt_.local_share}, unite);
     if (2 * rows.size() > static_cast<std::size_t>(q_.size())) return false;
     sys_.evaluate_tangent_on(q_, t_, rows);
+    const Eigen::SparseMatrix<double> kss = sys_.sum_over_processes(principal_submatrix(sys_.tangent(), rows));
     Eigen::VectorXd dq;
-    if (!local_update(r, sys_.tangent(), sys_.symmetric(), rows, dq)) return false;
+    if (!local_update(r, kss, sys_.symmetric(), rows, dq)) return false;
     q_ += dq;
     last_update_ = std::move(dq);
     applied_ = 1.0;

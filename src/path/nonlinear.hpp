@@ -36,6 +36,13 @@ class NonlinearSystem {
   virtual Eigen::VectorXd tangent_times(const Eigen::VectorXd& x) const { return tangent() * x; }
   // Whether tangent() is one process's summand of a tangent shared by several processes.
   virtual bool distributed() const { return false; }
+  // Collective in a distributed system: `flags` (one per unknown, 0 or 1) set wherever they are set on
+  // any process (local_rows's RowUnion). A serial system has nothing to unite.
+  virtual void unite_flags(std::vector<char>& /*flags*/) const {}
+  // Collective in a distributed system: the sum over the processes of their matrices of one size (each
+  // process's part, such as its summand's principal submatrix), the same bits on every process. A serial
+  // system's part is the whole.
+  virtual Eigen::SparseMatrix<double> sum_over_processes(Eigen::SparseMatrix<double> part) const { return part; }
   // d residual / d t at fixed q, exact, from the last evaluate() with the tangent: the load vector that
   // arc-length continuation borders the tangent with (prescribed values and loads both scale with t).
   // Systems that do not provide it return an empty vector.
@@ -107,7 +114,8 @@ struct NewtonOptions {
   // reuse_below, the factorisation after a kept local update that cut |r| by 4 is reused from the next
   // update on (under the reuse rule). Where no local update can be made (rows that would be half the
   // unknowns or more, a failed factorisation), the first iterate is evaluated once more, with its tangent.
-  // Not in distributed systems (their tangent is one process's summand).
+  // In a distributed system the rows grow through the processes' summands together, K_SS is their sum, and
+  // every process solves it (NonlinearSystem::unite_flags, sum_over_processes).
   double local_share = 0;
   // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
   // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term

@@ -39,8 +39,6 @@ CASES = {
         ("elements: [100, 100]", "elements: [10, 10]"),
         ("elements: 400", "elements: 40"),
         ("output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"),
-        # a serial run's updates only (a distributed run's are global): both runs take the same iterations
-        ("  local_first_update: 0.1\n", ""),
     ], "auto"),
 }
 

@@ -8,7 +8,8 @@ For the peeling and the bending example at a coarse mesh (the meshes of their C+
   3 processes:  mpiexec -n 3 fibrane run CASE                (uneven ownership: unequal shares of the unknowns)
 (the distributed runs with the default graph partition) and compares every history.csv with the serial one
 (mpi_common.compare): the same steps, Newton iterations and limit-point flags, and every other column
-within 1e-8 of the serial column's largest magnitude (relative). `--processes 4 8` runs other counts in
+within 1e-8 of the serial column's largest magnitude (relative). The bending example keeps its
+`local_first_update`: every run makes as many local updates as the serial one (summary.json), and some. `--processes 4 8` runs other counts in
 place of 1, 2 and 3 (more processes than cores: oversubscribed, for correctness only).
 Exit 0 when all agree, 1 with the differing columns listed otherwise.
 """
@@ -35,8 +36,15 @@ def main():
         for label, command in runs.items():
             run(command, a.work, a.work / f"{name}-{label}.log")
         serial = read_history(a.work / f"{name}-serial" / "history.csv")
+        local = summary(a.work / f"{name}-serial")["local_updates"]
+        if "local_first_update" in case.read_text() and local == 0:
+            problems.append(f"{name}: the serial run made no local update")
         for n in a.processes:
             problems += compare(serial, read_history(a.work / f"{name}-np{n}" / "history.csv"), f"{name} np{n}")
+            made = summary(a.work / f"{name}-np{n}")["local_updates"]
+            print(f"{name} np{n}: {made} local updates (serial {local})")
+            if made != local:
+                problems.append(f"{name} np{n}: {made} local updates, serial {local}")
     if 3 in a.processes:
         # 3 processes own unequal shares of the unknowns in at least one case.
         uneven = [n for n in a.cases if len(set(summary(a.work / f"{n}-np3")["partition"]["owned_unknowns"])) > 1]

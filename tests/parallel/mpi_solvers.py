@@ -13,7 +13,8 @@ exactly) and the bending example at the coarse meshes of mpi_common.py:
   mpiexec -n 2 fibrane run CASE+out_of_core          (steps.out_of_core: a directory -> each process's
                                                       factor in files there while the run lasts (the
                                                       directory is polled), deleted at the run's end)
-(modified Newton's `reuse_factorization` removed from all four, as Krylov solves exclude it) and checks
+(modified Newton's `reuse_factorization` removed from all four, as Krylov solves exclude it, and the
+bending example's `local_first_update`, so that every Newton update is the solver's) and checks
 that each distributed history equals the serial one to 1e-6 of each column's largest magnitude with the
 same steps, Newton iterations and limit-point flags (the solves are refined to 1e-8 relative, so the
 Newton iterates agree to about that, well inside Newton's tolerance; `negative_eigenvalues` is -1 where a
@@ -40,10 +41,12 @@ SOLVER_NAMES = {"krylov": "petsc-gmres(mumps-ldlt)", "low_rank": "petsc-gmres(mu
 
 
 def with_steps(text, lines):
-    """The case text with `lines` added to its steps, modified Newton's reuse removed (it excludes both) and
-    the split Cholesky removed (a key of solver auto and cholmod, which one variant replaces)."""
+    """The case text with `lines` added to its steps, modified Newton's reuse removed (it excludes both), the
+    split Cholesky removed (a key of solver auto and cholmod, which one variant replaces) and the local
+    first update removed (every update then goes through the solver under test)."""
     text = re.sub(r"\n  reuse_factorization: [^\n]*", "", text)
     text = re.sub(r"\n  split: [^\n]*", "", text)
+    text = re.sub(r"\n  local_first_update: [^\n]*", "", text)
     return text.replace("\nsteps:\n", "\nsteps:\n" + lines, 1)
 
 

@@ -3,6 +3,8 @@
 // factorisation fewer where the residual is local, and an update that raised |r| taken back.
 #include <gtest/gtest.h>
 
+#include <barrier>
+#include <thread>
 #include <vector>
 
 #include "path/local_correction.hpp"
@@ -71,6 +73,60 @@ TEST(LocalRows, SeedsGrowByLayersOfTheGraphUntilTheyHoldTheShare) {
   EXPECT_EQ(local_rows(r, k, {.share = 0.1, .max_layers = 3}).size(), 7u);
 }
 
+// Three "processes" (threads), each with a summand of the grid matrix (the entries of the rows each owns, and
+// their transposes, so every summand's pattern is symmetric), grow the rows together through RowUnion: each
+// gets the rows of the whole matrix, where one summand's graph alone gives fewer. The summands' principal
+// submatrices sum to the whole one's.
+TEST(LocalRows, SummandsOfSeveralProcessesGrowTheSumsLayers) {
+  const int n = 900, processes = 3;
+  const Eigen::SparseMatrix<double> k = grid_matrix(30, 0.1, 0.0, 0.2, 3);
+  std::vector<std::vector<Eigen::Triplet<double>>> parts(processes);
+  for (int j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) {
+      const int lower = std::min(static_cast<int>(it.row()), j);
+      parts[static_cast<std::size_t>((lower / 7) % processes)].emplace_back(static_cast<int>(it.row()), j, it.value());
+    }
+  std::vector<Eigen::SparseMatrix<double>> summands(processes, Eigen::SparseMatrix<double>(n, n));
+  for (int p = 0; p < processes; ++p)
+    summands[static_cast<std::size_t>(p)].setFromTriplets(parts[static_cast<std::size_t>(p)].begin(), parts[static_cast<std::size_t>(p)].end());
+  Eigen::VectorXd r = Eigen::VectorXd::Zero(n);
+  r[433] = 1.0;
+  r[95] = -0.5;
+  const LocalRowsOptions options{.share = 0.2};
+  const std::vector<int> whole = local_rows(r, k, options);
+  ASSERT_GT(whole.size(), 150u);
+
+  std::barrier sync(processes);
+  std::vector<std::vector<char>*> slots(processes);
+  std::vector<std::vector<int>> rows(processes), alone(processes);
+  std::vector<std::thread> threads;
+  for (int p = 0; p < processes; ++p)
+    threads.emplace_back([&, p] {
+      const auto unite = [&](std::vector<char>& added) {
+        slots[static_cast<std::size_t>(p)] = &added;
+        sync.arrive_and_wait();
+        std::vector<char> any(added.size(), 0);
+        for (const auto* s : slots)
+          for (std::size_t i = 0; i < any.size(); ++i) any[i] = static_cast<char>(any[i] | (*s)[i]);
+        sync.arrive_and_wait();  // everyone has read before anyone writes
+        added = any;
+      };
+      rows[static_cast<std::size_t>(p)] = local_rows(r, summands[static_cast<std::size_t>(p)], options, unite);
+      alone[static_cast<std::size_t>(p)] = local_rows(r, summands[static_cast<std::size_t>(p)], options);
+    });
+  for (auto& t : threads) t.join();
+  Eigen::SparseMatrix<double> sum(whole.size(), whole.size());
+  for (int p = 0; p < processes; ++p) {
+    SCOPED_TRACE(p);
+    EXPECT_EQ(rows[static_cast<std::size_t>(p)], whole);
+    EXPECT_NE(alone[static_cast<std::size_t>(p)], whole);
+    sum += principal_submatrix(summands[static_cast<std::size_t>(p)], whole);
+  }
+  const Eigen::SparseMatrix<double> direct = principal_submatrix(k, whole);
+  EXPECT_EQ(sum.nonZeros(), direct.nonZeros());
+  EXPECT_EQ((sum - direct).norm(), 0.0);  // each entry comes from exactly one summand
+}
+
 // K_SS dq_S = -r_S on the rows, zero elsewhere: symmetric (LL^T) and unsymmetric (LU) tangents.
 TEST(LocalUpdate, SolvesThePrincipalSubmatrixOnTheRows) {
   for (const double convection : {0.0, 0.4}) {
@@ -80,7 +136,7 @@ TEST(LocalUpdate, SolvesThePrincipalSubmatrixOnTheRows) {
     std::vector<int> rows;
     for (int i = 0; i < 900; i += 3) rows.push_back(i);
     Eigen::VectorXd dq;
-    ASSERT_TRUE(local_update(r, k, convection == 0.0, rows, dq));
+    ASSERT_TRUE(local_update(r, principal_submatrix(k, rows), convection == 0.0, rows, dq));
     const Eigen::VectorXd kdq = k * dq;
     double largest = 0;
     for (int i = 0; i < 900; ++i) {
@@ -101,7 +157,8 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
     for (int j = 0; j < 50; ++j)
       if (k.coeff(i, j) != 0.0) k.coeffRef(i, j) = k.coeffRef(j, i) = 0.0;
   Eigen::VectorXd dq = Eigen::VectorXd::Constant(50, 7.0);
-  EXPECT_FALSE(local_update(Eigen::VectorXd::Ones(50), k, true, {9, 10, 11, 12, 13}, dq));
+  const std::vector<int> rows{9, 10, 11, 12, 13};
+  EXPECT_FALSE(local_update(Eigen::VectorXd::Ones(50), principal_submatrix(k, rows), true, rows, dq));
   EXPECT_EQ(dq, Eigen::VectorXd::Constant(50, 7.0));
 }
 
