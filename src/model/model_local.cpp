@@ -1,6 +1,7 @@
-// A partial evaluation for Newton's local first update (path/local_correction.hpp): only the elements
-// whose free unknowns meet the update's rows, which hold every entry of the tangent's principal
-// submatrix on those rows.
+// What Newton's local first update (path/local_correction.hpp) needs of the model: a partial evaluation of
+// only the elements whose free unknowns meet the update's rows, which hold every entry of the tangent's
+// principal submatrix on those rows; and, in a distributed run, the collectives that make the rows and
+// that submatrix the same on every process.
 #include <algorithm>
 
 #include "linalg/partition.hpp"

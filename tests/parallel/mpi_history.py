@@ -9,8 +9,9 @@ For the peeling and the bending example at a coarse mesh (the meshes of their C+
 (the distributed runs with the default graph partition) and compares every history.csv with the serial one
 (mpi_common.compare): the same steps, Newton iterations and limit-point flags, and every other column
 within 1e-8 of the serial column's largest magnitude (relative). The bending example keeps its
-`local_first_update`: every run makes as many local updates as the serial one (summary.json), and some. `--processes 4 8` runs other counts in
-place of 1, 2 and 3 (more processes than cores: oversubscribed, for correctness only).
+`local_first_update`: every run makes as many local updates as the serial one (summary.json), and some.
+`--processes 4 8` runs other counts in place of 1, 2 and 3 (more processes than cores: oversubscribed, for
+correctness only).
 Exit 0 when all agree, 1 with the differing columns listed otherwise.
 """
 import sys

@@ -16,9 +16,9 @@ On the peeling example at the coarse mesh of mpi_history.py (arc-length, checkpo
   one process   SIGTERM to rank 1 only: rank 0 stops after the same step (the processes decide together),
                 the checkpoint and summary.json are written
 and on the bending example at the coarse mesh of mpi_history.py (load stepping with Newton's local first
-updates): the kill -9 of a 2-process run and its restart on 2 processes, equal to its uninterrupted run
-to 1e-10 (two uninterrupted 2-process runs of this case differ by ~4e-12, with or without the local
-updates, where the peeling example's are the same bits).
+updates): the kill -9 of a 2-process run and its restart on 2 processes, which makes local updates and
+ends equal to its uninterrupted run to 1e-10 (two uninterrupted 2-process runs of this case differ by
+~4e-12, with or without the local updates, where the peeling example's are the same bits).
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
 import json
@@ -120,6 +120,9 @@ def main():
     run(mpi2 + [bending, "-q", "--restart", bending_killed], work, work / "bending-killed-restart.log")
     check("bending, kill -9, restart on 2 processes", bending_killed,
           read_history(work / "bending-reference" / "history.csv"), SAME_COUNT)
+    restarted = json.loads((bending_killed / "summary.json").read_text())
+    if restarted["local_updates"] == 0:  # counted since the checkpoint
+        problems.append("bending, kill -9, restart on 2 processes: the restarted run made no local update")
 
     # SIGTERM to every rank, and to rank 1 alone.
     for label, ranks in (("SIGTERM to both", [0, 1]), ("SIGTERM to rank 1", [1])):
