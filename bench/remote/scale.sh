@@ -7,8 +7,9 @@
 #      and on 16 processes of one thread;
 #   3. the full membrane at the paper's resolution (bench/cases/bending-full-1m.yaml, 1.1 M unknowns), one
 #      step on 8 processes of 2 threads, each Newton iteration's residual time-stamped;
-#   4. (only when PARTS names it) the quarter's three steps at 4 threads, and the 278 k step on 16
-#      processes with MUMPS's block low-rank factor (PETSc options) preconditioning GMRES;
+#   4. (only when PARTS names it) the quarter's three steps at 4 threads and at 16 with OpenBLAS's own
+#      idle spin (OPENBLAS_THREAD_TIMEOUT=28), and the 278 k step on 16 processes with MUMPS's block
+#      low-rank factor (PETSc options) preconditioning GMRES;
 #   5. (only when PARTS names it) what memory handed back costs to touch again (bench_fresh_memory), the
 #      BLAS alone (bench_dense_blas: OpenBLAS's kernel for the processor,
 #      dgemm and dpotrf of 3000 x 3000 at 1, 2, 4, 8 and 16 threads), then the quarter's three steps by bench_newton_breakdown
@@ -179,8 +180,10 @@ if part 3; then
 fi
 
 if part 4; then
-  say "== 4. the quarter's three steps at 4 threads; the 278 k step on $q3_procs processes with MUMPS's block low-rank factor (CNTL(7) = 1e-8) preconditioning GMRES"
+  say "== 4. the quarter's three steps at 4 threads, and at 16 with OpenBLAS's own spin; the 278 k step on $q3_procs processes with MUMPS's block low-rank factor (CNTL(7) = 1e-8) preconditioning GMRES"
   measure q3-t4 0 4 90 "$work/q3.yaml"
+  # OpenBLAS's own spin before its idle threads sleep, against fibrane's OPENBLAS_THREAD_TIMEOUT=20 (part 2)
+  OPENBLAS_THREAD_TIMEOUT=28 measure q3-t16-spin28 0 16 90 "$work/q3.yaml"
   PETSC_OPTIONS="-mat_mumps_icntl_35 1 -mat_mumps_cntl_7 1e-8" \
     measure "full-p$q3_procs-blr" "$q3_procs" 1 "$(($(left) - 5))" "$full" --max-steps 1 --mpi-solver gmres
   pack

@@ -8,10 +8,11 @@
 """
 import os as _os
 
-# The OpenMP settings the CLI gives itself (run/process_environment.cpp says why), read by libgomp when
-# the extension loads it: a user's own settings are kept.
+# The OpenMP and OpenBLAS settings the CLI gives itself (run/process_environment.cpp says why), read by
+# libgomp and OpenBLAS when the extension loads them: a user's own settings are kept.
 _os.environ.setdefault("OMP_WAIT_POLICY", "passive")
 _os.environ.setdefault("OMP_THREAD_LIMIT", str(_os.cpu_count() or 1))
+_os.environ.setdefault("OPENBLAS_THREAD_TIMEOUT", "20")
 
 from . import _core  # noqa: E402
 from .case import Case, to_yaml  # noqa: E402

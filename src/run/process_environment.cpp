@@ -8,8 +8,8 @@
 // system time on an idle machine and whole factorisations' worth of time on a busy one (docs/performance.md,
 // "OpenBLAS threads: pthreads or OpenMP build"). OMP_THREAD_LIMIT (the cores, or --threads N) caps every
 // region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep instead of spinning. A
-// user's own setting of either variable is kept; likewise glibc's malloc tunables and OpenBLAS's kernel
-// below.
+// user's own setting of either variable is kept; likewise glibc's malloc tunables and OpenBLAS's waiting
+// and kernel below.
 #include <unistd.h>
 
 #include <cstdlib>
@@ -68,6 +68,14 @@ void configure_process_environment(int argc, char** argv) {
            "glibc.malloc.mmap_threshold=34359738368:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
            "glibc.malloc.arena_max=1",
            1);
+    changed = true;
+  }
+  // OpenBLAS's pthreads build keeps its idle worker threads spinning in sched_yield for 2^28 cycles (about
+  // 0.1 s) after each BLAS call; between the factorisation's calls and through the assembly that follows,
+  // they take turns with the threads that work, as system time. 2^20 cycles (under a millisecond) still
+  // bridges the gaps between one factorisation's calls (docs/performance.md, "OpenBLAS threads").
+  if (!std::getenv("OPENBLAS_THREAD_TIMEOUT")) {
+    setenv("OPENBLAS_THREAD_TIMEOUT", "20", 1);
     changed = true;
   }
   // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (linalg/linear_solver.hpp,

@@ -147,6 +147,9 @@ void interrupt_and_restart(int signal, int exit_code, const char* name) {
   if (!std::getenv("GLIBC_TUNABLES")) {  // the malloc thresholds it sets unless the user gave their own
     EXPECT_NE(environ.find("GLIBC_TUNABLES=glibc.malloc.mmap_threshold="), std::string::npos);
   }
+  if (!std::getenv("OPENBLAS_THREAD_TIMEOUT")) {  // and OpenBLAS's shorter spin
+    EXPECT_NE(environ.find("OPENBLAS_THREAD_TIMEOUT=20"), std::string::npos);
+  }
   EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
   ASSERT_EQ(kill(pid, signal), 0);
   int status = 0;
