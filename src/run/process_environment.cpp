@@ -33,6 +33,14 @@ int threads_argument(int argc, char** argv) {
   return 0;
 }
 
+// Sets `name` to `value` unless the environment already has it (the user's setting is kept) or `value` is
+// empty; true where it set it.
+bool set_default(const char* name, const std::string& value) {
+  if (std::getenv(name) || value.empty()) return false;
+  setenv(name, value.c_str(), 1);
+  return true;
+}
+
 }  // namespace
 
 void configure_process_environment(int argc, char** argv) {
@@ -40,18 +48,10 @@ void configure_process_environment(int argc, char** argv) {
   if (std::getenv(kMarker)) return;  // this is the re-executed process (or the user opted out)
   setenv(kMarker, "1", 1);
   bool changed = false;
-  if (!std::getenv("OMP_THREAD_LIMIT")) {
-    int limit = threads_argument(argc, argv);
-    if (limit <= 0) limit = static_cast<int>(std::thread::hardware_concurrency());
-    if (limit > 0) {
-      setenv("OMP_THREAD_LIMIT", std::to_string(limit).c_str(), 1);
-      changed = true;
-    }
-  }
-  if (!std::getenv("OMP_WAIT_POLICY")) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    changed = true;
-  }
+  int limit = threads_argument(argc, argv);
+  if (limit <= 0) limit = static_cast<int>(std::thread::hardware_concurrency());
+  if (limit > 0) changed |= set_default("OMP_THREAD_LIMIT", std::to_string(limit));
+  changed |= set_default("OMP_WAIT_POLICY", "passive");
   // glibc returns large freed blocks to the system (munmap, heap trimming), so the factorisation's and the
   // assembly's work arrays, allocated anew at every Newton iteration, fault in fresh zeroed pages each
   // time: with these thresholds the process keeps them (blocks up to 32 GiB come from the heap: the factor
@@ -63,29 +63,17 @@ void configure_process_environment(int argc, char** argv) {
   // every larger block by mmap whatever the thresholds say, so the split factorisation's domains and the
   // pattern merge, which run on OpenMP's threads, would fault in their factors and arrays anew at every
   // iteration (docs/performance.md, "The paper-mesh bending run").
-  if (!std::getenv("GLIBC_TUNABLES")) {
-    setenv("GLIBC_TUNABLES",
-           "glibc.malloc.mmap_threshold=34359738368:glibc.malloc.trim_threshold=17179869184:glibc.malloc.hugetlb=1:"
-           "glibc.malloc.arena_max=1",
-           1);
-    changed = true;
-  }
+  changed |= set_default("GLIBC_TUNABLES",
+                         "glibc.malloc.mmap_threshold=34359738368:glibc.malloc.trim_threshold=17179869184:"
+                         "glibc.malloc.hugetlb=1:glibc.malloc.arena_max=1");
   // OpenBLAS's pthreads build keeps its idle worker threads spinning in sched_yield for 2^28 cycles (about
   // 0.1 s) after each BLAS call; between the factorisation's calls and through the assembly that follows,
   // they take turns with the threads that work, as system time. 2^20 cycles (under a millisecond) still
   // bridges the gaps between one factorisation's calls (docs/performance.md, "OpenBLAS threads").
-  if (!std::getenv("OPENBLAS_THREAD_TIMEOUT")) {
-    setenv("OPENBLAS_THREAD_TIMEOUT", "20", 1);
-    changed = true;
-  }
+  changed |= set_default("OPENBLAS_THREAD_TIMEOUT", "20");
   // A DYNAMIC_ARCH OpenBLAS that does not know the processor falls back to old kernels (linalg/linear_solver.hpp,
   // blas_core_upgrade); it reads OPENBLAS_CORETYPE when it is loaded.
-  if (!std::getenv("OPENBLAS_CORETYPE")) {
-    if (const std::string core = solve::blas_core_upgrade(); !core.empty()) {
-      setenv("OPENBLAS_CORETYPE", core.c_str(), 1);
-      changed = true;
-    }
-  }
+  if (!std::getenv("OPENBLAS_CORETYPE")) changed |= set_default("OPENBLAS_CORETYPE", solve::blas_core_upgrade());
   if (changed) execv("/proc/self/exe", argv);  // on failure: go on with the settings as they are
 }
 
