@@ -34,6 +34,9 @@ casefile::Case read_everywhere(const RunCommandOptions& o, const parallel::MpiDi
     if (distributed) {
       try {
         solver = parallel::petsc_solver_options(c->run.linear_solver, o.mpi_solver, c->model->symmetric());
+        if (c->run.newton.local_newton > 0)
+          throw InputError("steps.local_newton: local Newton solves are a serial run's (each process holds part "
+                           "of the tangent); leave the key out in a distributed run");
       } catch (const InputError& e) {
         throw InputError(o.case_file + ": " + e.what());
       }

@@ -47,6 +47,8 @@ void read_newton(solve::NewtonOptions& newton, const io::YamlNode& node) {
   newton.reuse_below = number_in(node, "reuse_factorization", 0.0, 1.0, false, true, newton.reuse_below);
   newton.reuse_first = node.get("reuse_first_factorization", newton.reuse_first);
   newton.local_share = number_in(node, "local_first_update", 0.0, 0.5, false, true, newton.local_share);
+  newton.local_newton = optional_int_in(node, "local_newton", 0, 20, newton.local_newton,
+                                        "the most updates of a local Newton solve (0: none)");
   if (newton.reuse_first && !(newton.reuse_below > 0))
     node["reuse_first_factorization"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
 }
@@ -253,9 +255,10 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     (*node)["event_tolerance"].fail_message("applies to method: load_stepping (the arc-length and dynamics steps "
                                             "cross events wherever they fall)");
   read_newton(run.newton, *node);
-  if (node->has("local_first_update") && run.method != "load_stepping")
-    (*node)["local_first_update"].fail_message("applies to method: load_stepping (the arc-length corrector and "
-                                              "the dynamics' steps update globally)");
+  for (const char* key : {"local_first_update", "local_newton"})
+    if (node->has(key) && run.method != "load_stepping")
+      (*node)[key].fail_message("applies to method: load_stepping (the arc-length corrector and the dynamics' "
+                                "steps update globally)");
   read_linear_solver(run.linear_solver, *node);
   if (node->has("reuse_factorization") && (run.linear_solver.krylov || run.linear_solver.precision == "single" ||
                                            run.linear_solver.low_rank > 0))

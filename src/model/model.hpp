@@ -96,6 +96,9 @@ class Model : public solve::TransientSystem {
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
   // Only the elements whose free unknowns meet `rows` (model_local.cpp); distributed, those this process owns.
   void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) override;
+  // The beams' free unknowns (model_local.cpp): a fiber's end is where a finely meshed model's global
+  // Newton updates stall, and a local solve must move the fiber with it.
+  std::vector<int> local_solve_rows() const override;
   void unite_flags(std::vector<char>& flags) const override;
   // Distributed: the processes' parts gathered as (column, row, value) entries and summed in the order of
   // the processes' ranks, the same on every process.

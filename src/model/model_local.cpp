@@ -1,7 +1,7 @@
-// What Newton's local first update (path/local_correction.hpp) needs of the model: a partial evaluation of
+// What Newton's local updates (path/local_correction.hpp) need of the model: a partial evaluation of
 // only the elements whose free unknowns meet the update's rows, which hold every entry of the tangent's
-// principal submatrix on those rows; and, in a distributed run, the collectives that make the rows and
-// that submatrix the same on every process.
+// principal submatrix on those rows; the beams' unknowns, which a local solve always takes in; and, in a
+// distributed run, the collectives that make the rows and that submatrix the same on every process.
 #include <algorithm>
 
 #include "linalg/partition.hpp"
@@ -11,6 +11,17 @@ namespace fibrane::model {
 
 void Model::evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) {
   evaluate_elements(q, t, true, &rows);
+}
+
+std::vector<int> Model::local_solve_rows() const {
+  std::vector<int> rows;
+  for (const BeamBody& beam : beams) {
+    const int first = dofs.block_offset(beam.block), end = first + dofs.block_size(beam.block);
+    for (int d = first; d < end; ++d)
+      if (const int i = constraints.free_index(d); i >= 0) rows.push_back(i);
+  }
+  std::sort(rows.begin(), rows.end());
+  return rows;
 }
 
 void Model::unite_flags(std::vector<char>& flags) const {

@@ -1,6 +1,7 @@
 #include "path/nonlinear.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -101,6 +102,10 @@ class NewtonIteration {
       // tangent (one more evaluation, now with the tangent).
       const double contraction = it > 0 ? norm / rep_.history[it - 1] : 1.0;
       if (reuse_ && (!factor_valid_ || !(contraction <= 0.25))) reuse_ = false;
+      // A local solve where the last update was global and the residual has gathered on a local set.
+      const bool after_local = local_solved_;
+      local_solved_ = !reuse_ && it > 0 && !after_local && opt_.local_newton > 0 && local_solve(it);
+      if (local_solved_) continue;
       const bool fresh = !reuse_;
       if (fresh && !with_tangent) sys_.evaluate(q_, t_, true);
       if (fresh && !factorise(it)) return rep_;
@@ -227,6 +232,69 @@ class NewtonIteration {
     return true;
   }
 
+  // The rows of a local solve: local_rows of the residual and the system's local_solve_rows, sorted.
+  std::vector<int> local_solve_set(const Eigen::VectorXd& r) const {
+    const double share = opt_.local_share > 0 ? opt_.local_share : 0.01;
+    std::vector<int> rows = local_rows(r, sys_.tangent(), {.share = share});
+    const std::vector<int> always = sys_.local_solve_rows();
+    std::vector<int> both;
+    both.reserve(rows.size() + always.size());
+    std::set_union(rows.begin(), rows.end(), always.begin(), always.end(), std::back_inserter(both));
+    return both;
+  }
+
+  // A local Newton solve (NewtonOptions::local_newton) from the iterate just evaluated with its global
+  // tangent; false, with nothing changed, where it does not apply (|r| not gathered on the set, a set of
+  // half the unknowns or more, a distributed system) or its first update could not be made.
+  bool local_solve(int it) {
+    const auto start = std::chrono::steady_clock::now();
+    if (sys_.distributed() || sys_.tangent().rows() != q_.size()) return false;
+    const std::vector<int> rows = local_solve_set(sys_.residual());
+    if (rows.empty() || 2 * rows.size() > static_cast<std::size_t>(q_.size())) return false;
+    const auto norm_on_rows = [&rows](const Eigen::VectorXd& v) {
+      double sq = 0.0;
+      for (int i : rows) sq += v[i] * v[i];
+      return std::sqrt(sq);
+    };
+    constexpr double kGathered = 0.99, kEnough = 0.02;
+    const double begin = norm_on_rows(sys_.residual());
+    if (!(begin >= kGathered * sys_.residual().norm())) return false;
+    Eigen::VectorXd total = Eigen::VectorXd::Zero(q_.size()), dq;
+    double last = begin;
+    int updates = 0;
+    for (; updates < opt_.local_newton; ++updates) {
+      sys_.evaluate_tangent_on(q_, t_, rows);  // the set's rows of the residual are whole after it
+      const double now = sys_.invalid_state().empty() ? norm_on_rows(sys_.residual()) : NAN;
+      if (updates > 0 && !(now < last)) {  // the last update did not lower |r| on the set
+        q_ -= dq;
+        total -= dq;
+        --updates;
+        break;
+      }
+      last = now;
+      if (updates > 0 && now <= kEnough * begin) break;
+      const Eigen::SparseMatrix<double> kss = principal_submatrix(sys_.tangent(), rows);
+      if (!local_update(sys_.residual(), kss, sys_.symmetric(), rows, dq)) break;
+      q_ += dq;
+      total += dq;
+    }
+    if (opt_.verbose)
+      std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e (%.3f s)\n",
+                   t_, it, rows.size(), updates, begin, last,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    if (updates == 0) {
+      sys_.evaluate(q_, t_, true);  // the partial evaluation replaced the iterate's tangent
+      return false;
+    }
+    last_update_ = std::move(total);
+    applied_ = 1.0;
+    small_update_ = false;
+    rep_.iterations = it + 1;
+    ++rep_.local_updates;
+    local_pending_ = true;
+    return true;
+  }
+
   // |r| after a local update, or, where it did not fall below the last (or is not finite), the update taken
   // back and |r| of the iterate before it, evaluated again with its tangent.
   double keep_or_undo_local(int it, double norm) {
@@ -284,6 +352,7 @@ class NewtonIteration {
   bool expect_converged_ = false;
   bool local_pending_ = false;  // the last update was local: the next evaluation keeps or undoes it
   bool local_kept_ = false;     // the last update was local and kept
+  bool local_solved_ = false;   // the last update was a local solve (NewtonOptions::local_newton)
 };
 
 }  // namespace

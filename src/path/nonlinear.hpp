@@ -30,6 +30,11 @@ class NonlinearSystem {
   virtual void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& /*rows*/) {
     evaluate(q, t, true);
   }
+  // The unknowns a local Newton solve always takes in beside the residual's own rows
+  // (NewtonOptions::local_newton), sorted: a part of the system whose nonlinearity a global update does not
+  // get past and whose neighbours must move with it (fibrane's model: its beams' free unknowns). Empty (the
+  // default): the residual's rows alone.
+  virtual std::vector<int> local_solve_rows() const { return {}; }
   // Whether every entry of the tangent is finite; the same answer on every process.
   virtual bool tangent_finite() const;
   // The tangent times x (x and the product replicated on every process).
@@ -117,6 +122,15 @@ struct NewtonOptions {
   // In a distributed system the rows grow through the processes' summands together, K_SS is their sum, and
   // every process solves it (NonlinearSystem::unite_flags, sum_over_processes).
   double local_share = 0;
+  // Local Newton solves (0: off; serial systems only). After a global update whose residual lies at least
+  // 99 % (of |r|) on a local set (the rows of local_rows at local_share, 0.01 where that is 0, and
+  // NonlinearSystem::local_solve_rows), up to this many updates on that set alone, each from the tangent's
+  // entries on its rows at the set's current iterate (evaluate_tangent_on), until |r| on the set has fallen
+  // to 2 % of where it began, or stops falling (that update is taken back). The next evaluation keeps the
+  // local solve's result where |r| fell and takes it back otherwise; the update after it is global. Where a
+  // part of the system (a finely meshed fiber's end) is more nonlinear than the rest, this replaces
+  // global factorisations by factorisations of the set (docs/performance.md, "Where Newton stalls").
+  int local_newton = 0;
   // Inexact Newton for iterative solves (LinearSolver::solve_to; direct solvers solve exactly anyway): an
   // update solves K dq = -r only to |K dq + r| <= eta |r|, with Eisenstat and Walker's second forcing term
   // eta = 0.9 (|r_k| / |r_k-1|)^2 (forcing_max for the first update), at most forcing_max, and never
@@ -135,7 +149,8 @@ struct NewtonReport {
   int iterations = 0;          // number of linear solves (updates of q)
   int backtracks = 0;          // halvings of updates by the line search
   int factorizations = 0;      // updates with a fresh factorisation (the others reused one)
-  int local_updates = 0;       // of the updates, local ones (NewtonOptions::local_share), taken back or not
+  int local_updates = 0;       // of the updates, local ones (local_share) and local solves (local_newton),
+                               // taken back or not
   double residual_norm = 0;    // at the last evaluation
   std::vector<double> history; // ||r|| at every evaluation, the first before any update
   std::string failure;         // empty when converged

@@ -1,8 +1,9 @@
-// The local first update (steps.local_first_update) against Newton's global updates on the bending
-// example at a coarse mesh, t = 0 to 1 (contact fronts, soft points switching): the same steps and states to
-// Newton's tolerance, with fewer factorisations of the whole tangent.
+// The local first update (steps.local_first_update) and Newton's local solves (steps.local_newton) against
+// Newton's global updates on the bending example at a coarse mesh (contact fronts, soft points switching):
+// the same steps and states to Newton's tolerance, with fewer factorisations of the whole tangent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -97,6 +98,50 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   EXPECT_NE(text.find("\"local_updates\": " + std::to_string(res.local_updates) + ","), std::string::npos) << text;
   // summary.json's `factorizations`: the run solver's numeric factorisations, as the decorator counted them.
   EXPECT_NE(text.find("\"factorizations\": " + std::to_string(local.factorizations) + ","), std::string::npos) << text;
+}
+
+// Newton's local solves (steps.local_newton) against global updates on the coarse bending example with a
+// finer fiber (the local first update off in both): the same steps and states to Newton's tolerance, local
+// solves taken, and no more factorisations of the whole tangent.
+TEST(LocalNewton, BendingTakesTheGlobalPathsSteps) {
+  const std::vector<std::pair<std::string, std::string>> global_edits = {
+      {"elements: [100, 100]", "elements: [16, 16]"},
+      {"elements: 400", "elements: 256"},
+      {"dt: 0.01", "dt: 0.025"},
+      {"dt_max: 0.04", "dt_max: 0.025"},
+      {"t_end: 1.0", "t_end: 0.5"},
+      {"tolerance_absolute: 1.0e-4", "tolerance_absolute: 1.0e-8"},
+      {"  local_first_update: 0.1\n", ""},
+      {"output: {directory: out/bending, vtk_every: 5}", "output: {vtk: false}"}};
+  auto local_edits = global_edits;
+  local_edits.emplace_back("  reuse_factorization: 0.1\n", "  reuse_factorization: 0.1\n  local_newton: 6\n");
+  const CountedRun global = run_counted("local-newton-global", example_text("bending.yaml", global_edits));
+  const CountedRun local = run_counted("local-newton-local", example_text("bending.yaml", local_edits));
+  ASSERT_TRUE(global.run.summary.result.completed()) << global.run.summary.result.message;
+  ASSERT_TRUE(local.run.summary.result.completed()) << local.run.summary.result.message;
+  const History& a = global.run.history;
+  const History& b = local.run.history;
+  EXPECT_EQ(a.at("t"), b.at("t")) << "the same steps";
+  double accepted = 0;  // as in the local first update's test above
+  for (const History* h : {&a, &b})
+    for (const double r : h->at("residual")) accepted = std::max(accepted, r);
+  expect_same_columns(a, b, [accepted](const std::string& name, double scale) {
+    return name.rfind("adhesion_force", 0) == 0 ? 10 * accepted : 1e-6 * scale;
+  });
+  EXPECT_GT(local.run.summary.result.local_updates, 0);
+  EXPECT_EQ(global.run.summary.result.local_updates, 0);
+  EXPECT_LE(local.factorizations, global.factorizations);
+  // The rows every local solve takes in: exactly the free unknowns whose DOF is the fiber's (y and z of
+  // each control point here: x and twist are fixed), sorted.
+  const model::Model& m = *local.run.c.model;
+  const std::vector<int> rows = m.local_solve_rows();
+  const int block = m.beams.front().block;
+  const int first = m.dofs.block_offset(block), end = first + m.dofs.block_size(block);
+  std::vector<int> fiber;
+  for (int i = 0; i < m.size(); ++i)
+    if (const int d = m.constraints.free_dof(i); d >= first && d < end) fiber.push_back(i);
+  EXPECT_EQ(rows, fiber);
+  EXPECT_GE(static_cast<int>(fiber.size()), 2 * m.beams.front().num_control_points() - 2);
 }
 
 // The partial evaluation behind the local update (Model::evaluate_tangent_on): at the bending example's

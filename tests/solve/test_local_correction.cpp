@@ -1,6 +1,7 @@
 // The local first update (path/local_correction.hpp): the rows it chooses, the update it solves, and
 // Newton with it (NewtonOptions::local_share): the same solution as global Newton, one global
-// factorisation fewer where the residual is local, and an update that raised |r| taken back.
+// factorisation fewer where the residual is local, and an update that raised |r| taken back; Newton's local
+// solves (NewtonOptions::local_newton): the same solution with fewer global factorisations.
 #include <gtest/gtest.h>
 
 #include <barrier>
@@ -189,6 +190,43 @@ TEST(NewtonLocalFirstUpdate, ReachesGlobalNewtonsSolutionWithOneFactorisationFew
   EXPECT_EQ(reports[1].iterations, reports[0].iterations);
   // Both stop at |r| <= 1e-12 |r_0| (|r_0| = 0.2) and the tangent's smallest eigenvalue is >= 0.04.
   EXPECT_LT((solutions[1] - solutions[0]).cwiseAbs().maxCoeff(), 1e-11);
+}
+
+// The chain with the unknowns around its cubic spring named as a local solve's set (local_solve_rows): after
+// Newton's first global update the residual is the cubic spring's alone, which local solves on 200 +- 50
+// remove to the tails' e^-10 without factorising the whole tangent again.
+class ChainWithLocalPart : public Chain {
+ public:
+  using Chain::Chain;
+  std::vector<int> local_solve_rows() const override {
+    std::vector<int> rows(101);
+    for (int i = 0; i <= 100; ++i) rows[static_cast<std::size_t>(i)] = 150 + i;
+    return rows;
+  }
+};
+
+TEST(NewtonLocalSolve, ReachesGlobalNewtonsSolutionWithFewerFactorisations) {
+  ChainWithLocalPart chain(401, 200, 0.04, 20.0);
+  NewtonOptions options;
+  options.tol_relative = 1e-12;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(401);
+  ASSERT_TRUE(newton_solve(chain, start, 1.0, options, *solver).converged);
+  NewtonReport reports[2];
+  Eigen::VectorXd solutions[2];
+  for (int local : {0, 1}) {
+    options.local_newton = local ? 6 : 0;
+    Eigen::VectorXd q = start;
+    reports[local] = newton_solve(chain, q, 1.5, options, *solver);
+    ASSERT_TRUE(reports[local].converged) << reports[local].failure;
+    solutions[local] = q;
+  }
+  EXPECT_EQ(reports[0].local_updates, 0);
+  EXPECT_GE(reports[1].local_updates, 1);
+  EXPECT_GE(reports[0].factorizations, 4);  // the cubic spring: several global updates to 1e-12
+  EXPECT_LT(reports[1].factorizations, reports[0].factorizations);
+  // Both stop at |r| <= 1e-12 |r_0| and the tangent's smallest eigenvalue is >= 0.04.
+  EXPECT_LT((solutions[1] - solutions[0]).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 // K = [1 2; 2 5], r = K q - [1, 0] from q = 0: the seed is row 0 alone, whose local update (dq_0 = 1) leaves
