@@ -220,12 +220,7 @@ class NewtonIteration {
     Eigen::VectorXd dq;
     if (!local_update(r, kss, sys_.symmetric(), rows, dq)) return false;
     q_ += dq;
-    last_update_ = std::move(dq);
-    applied_ = 1.0;
-    small_update_ = false;
-    rep_.iterations = it + 1;
-    ++rep_.local_updates;
-    local_pending_ = true;
+    record_local(std::move(dq), it);
     if (opt_.verbose)
       std::fprintf(stderr, "  newton t=%.6g it=%d local update on %zu rows (%.3f s)\n", t_, it, rows.size(),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
@@ -286,13 +281,19 @@ class NewtonIteration {
       sys_.evaluate(q_, t_, true);  // the partial evaluation replaced the iterate's tangent
       return false;
     }
-    last_update_ = std::move(total);
+    record_local(std::move(total), it);
+    return true;
+  }
+
+  // A local update dq (already added to q) as the iteration's update, which the next evaluation keeps or
+  // takes back (keep_or_undo_local).
+  void record_local(Eigen::VectorXd dq, int it) {
+    last_update_ = std::move(dq);
     applied_ = 1.0;
     small_update_ = false;
     rep_.iterations = it + 1;
     ++rep_.local_updates;
     local_pending_ = true;
-    return true;
   }
 
   // |r| after a local update, or, where it did not fall below the last (or is not finite), the update taken

@@ -55,6 +55,26 @@ CountedRun run_counted(const std::string& name, const std::string& yaml) {
   return p;
 }
 
+// Both runs completed with the same steps and states. Newton accepts a state at the tolerance or at its
+// round-off floor (~1e-7 to 1e-6 here, the `residual` column): a force imbalance of that size.
+// Displacements and energies then agree to ~1e-8 of their largest magnitude, checked to 1e-6 (a step
+// converged to another state, a soft point switching elsewhere, differs by 1e-3 or more); the adhesion
+// force's components, sums of the points' forces whose z component nearly cancels, to ten times the
+// largest accepted residual.
+void expect_the_same_path(const CountedRun& global, const CountedRun& local) {
+  ASSERT_TRUE(global.run.summary.result.completed()) << global.run.summary.result.message;
+  ASSERT_TRUE(local.run.summary.result.completed()) << local.run.summary.result.message;
+  const History& a = global.run.history;
+  const History& b = local.run.history;
+  EXPECT_EQ(a.at("t"), b.at("t")) << "the same steps";
+  double accepted = 0;
+  for (const History* h : {&a, &b})
+    for (const double r : h->at("residual")) accepted = std::max(accepted, r);
+  expect_same_columns(a, b, [accepted](const std::string& name, double scale) {
+    return name.rfind("adhesion_force", 0) == 0 ? 10 * accepted : 1e-6 * scale;
+  });
+}
+
 TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   // Newton's tolerance tightened from the paper mesh's round-off floor (1e-4) to 1e-8: the two paths'
   // states then agree to ~1e-8 of forces of O(1). Steps of one size: a step's size would otherwise follow
@@ -70,22 +90,7 @@ TEST(LocalFirstUpdate, BendingTakesTheGlobalPathsStepsWithFewerFactorisations) {
   global_edits.emplace_back("  local_first_update: 0.1\n", "");
   const CountedRun global = run_counted("local-update-global", example_text("bending.yaml", global_edits));
   const CountedRun local = run_counted("local-update-local", example_text("bending.yaml", coarse));
-  ASSERT_TRUE(global.run.summary.result.completed()) << global.run.summary.result.message;
-  ASSERT_TRUE(local.run.summary.result.completed()) << local.run.summary.result.message;
-  const History& a = global.run.history;
-  const History& b = local.run.history;
-  EXPECT_EQ(a.at("t"), b.at("t")) << "the same steps";
-  // Newton accepts a state at the tolerance or at its round-off floor (~1e-7 to 1e-6 here, the `residual`
-  // column): a force imbalance of that size. Displacements and energies then agree to ~1e-8 of their
-  // largest magnitude, checked to 1e-6 (a step converged to another state, a soft point switching
-  // elsewhere, differs by 1e-3 or more); the adhesion force's components, sums of the points' forces whose
-  // z component nearly cancels, to ten times the largest accepted residual.
-  double accepted = 0;
-  for (const History* h : {&a, &b})
-    for (const double r : h->at("residual")) accepted = std::max(accepted, r);
-  expect_same_columns(a, b, [accepted](const std::string& name, double scale) {
-    return name.rfind("adhesion_force", 0) == 0 ? 10 * accepted : 1e-6 * scale;
-  });
+  expect_the_same_path(global, local);
   // About one factorisation per step where the global path takes two (measured: 43 and 82 for 40 steps).
   EXPECT_LT(local.factorizations, 0.6 * global.factorizations);
   // summary.json's `local_updates`: one per attempt at a step (no first iterate converges at once here),
@@ -117,17 +122,7 @@ TEST(LocalNewton, BendingTakesTheGlobalPathsSteps) {
   local_edits.emplace_back("  reuse_factorization: 0.1\n", "  reuse_factorization: 0.1\n  local_newton: 6\n");
   const CountedRun global = run_counted("local-newton-global", example_text("bending.yaml", global_edits));
   const CountedRun local = run_counted("local-newton-local", example_text("bending.yaml", local_edits));
-  ASSERT_TRUE(global.run.summary.result.completed()) << global.run.summary.result.message;
-  ASSERT_TRUE(local.run.summary.result.completed()) << local.run.summary.result.message;
-  const History& a = global.run.history;
-  const History& b = local.run.history;
-  EXPECT_EQ(a.at("t"), b.at("t")) << "the same steps";
-  double accepted = 0;  // as in the local first update's test above
-  for (const History* h : {&a, &b})
-    for (const double r : h->at("residual")) accepted = std::max(accepted, r);
-  expect_same_columns(a, b, [accepted](const std::string& name, double scale) {
-    return name.rfind("adhesion_force", 0) == 0 ? 10 * accepted : 1e-6 * scale;
-  });
+  expect_the_same_path(global, local);
   EXPECT_GT(local.run.summary.result.local_updates, 0);
   EXPECT_EQ(global.run.summary.result.local_updates, 0);
   EXPECT_LE(local.factorizations, global.factorizations);

@@ -21,8 +21,8 @@ Newton iterates agree to about that, well inside Newton's tolerance; `negative_e
 step's last factorisation was an earlier tangent's, and is not compared), that summary.json names the
 GMRES path (with `-blr` for low_rank) or the LU, and that GMRES reused factorisations (fewer
 factorisations than Newton iterations) where the case asks for Krylov solves. Then that a distributed run exits with 2, names the key, and writes
-nothing for what that path cannot do: `precision: single`, a serial solver (`solver: cholmod`), and
-`--mpi-solver mumps` against `krylov: true`.
+nothing for what that path cannot do: `precision: single`, a serial solver (`solver: cholmod`),
+`--mpi-solver mumps` against `krylov: true`, and Newton's local solves (`local_newton`).
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
 import pathlib
@@ -136,6 +136,8 @@ def main():
                         "steps.solver")
     problems += refused(fibrane, a, work, "mumps-and-krylov", with_steps(text, VARIANTS["krylov"]),
                         ["--mpi-solver", "mumps"], "--mpi-solver")
+    problems += refused(fibrane, a, work, "local-newton", with_steps(text, "  local_newton: 4\n"), [],
+                        "steps.local_newton")
     for p in problems:
         print(f"FAIL {p}")
     return 1 if problems else 0

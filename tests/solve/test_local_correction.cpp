@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <barrier>
+#include <functional>
 #include <thread>
 #include <vector>
 
@@ -163,33 +164,44 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
   EXPECT_EQ(dq, Eigen::VectorXd::Constant(50, 7.0));
 }
 
+// A load step on `chain` from its converged state at t = 1 to t, with Newton's options as given (to 1e-12
+// relative) and with `local` applied to them: the two reports and solutions, [0] without and [1] with.
+struct PlainAndLocal {
+  NewtonReport report[2];
+  Eigen::VectorXd solution[2];
+};
+PlainAndLocal load_step_both_ways(NonlinearSystem& chain, double t, const std::function<void(NewtonOptions&)>& local) {
+  NewtonOptions options;
+  options.tol_relative = 1e-12;
+  auto solver = make_linear_solver("auto", true);
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(chain.size());
+  EXPECT_TRUE(newton_solve(chain, start, 1.0, options, *solver).converged);
+  PlainAndLocal out;
+  for (int with : {0, 1}) {
+    NewtonOptions o = options;
+    if (with) local(o);
+    out.solution[with] = start;
+    out.report[with] = newton_solve(chain, out.solution[with], t, o, *solver);
+    EXPECT_TRUE(out.report[with].converged) << out.report[with].failure;
+  }
+  return out;
+}
+
 // A load step on the chain: from the converged state at t = 1 to t = 1.2. The step's residual is the load
 // increment at the cubic spring, felt over ~1 / sqrt(0.04) = 5 unknowns: the local update on 200 +- 50 is
 // Newton's first update but for e^-10 of its tails, so the solve then takes plain Newton's global updates:
 // one factorisation fewer, the same solution to the tolerance.
 TEST(NewtonLocalFirstUpdate, ReachesGlobalNewtonsSolutionWithOneFactorisationFewer) {
   Chain chain(401, 200, 0.04, 20.0);
-  NewtonOptions options;
-  options.tol_relative = 1e-12;
-  auto solver = make_linear_solver("auto", true);
-  Eigen::VectorXd start = Eigen::VectorXd::Zero(401);
-  ASSERT_TRUE(newton_solve(chain, start, 1.0, options, *solver).converged);
-  NewtonReport reports[2];
-  Eigen::VectorXd solutions[2];
-  for (int local : {0, 1}) {
-    options.local_share = local ? 0.25 : 0.0;
-    Eigen::VectorXd q = start;
-    reports[local] = newton_solve(chain, q, 1.2, options, *solver);
-    ASSERT_TRUE(reports[local].converged) << reports[local].failure;
-    solutions[local] = q;
-  }
+  const PlainAndLocal both = load_step_both_ways(chain, 1.2, [](NewtonOptions& o) { o.local_share = 0.25; });
+  const NewtonReport* reports = both.report;
   EXPECT_EQ(reports[0].local_updates, 0);
   EXPECT_EQ(reports[1].local_updates, 1);
   EXPECT_GE(reports[0].factorizations, 3);  // the cubic spring: a few updates to 1e-12
   EXPECT_EQ(reports[1].factorizations, reports[0].factorizations - 1);
   EXPECT_EQ(reports[1].iterations, reports[0].iterations);
   // Both stop at |r| <= 1e-12 |r_0| (|r_0| = 0.2) and the tangent's smallest eigenvalue is >= 0.04.
-  EXPECT_LT((solutions[1] - solutions[0]).cwiseAbs().maxCoeff(), 1e-11);
+  EXPECT_LT((both.solution[1] - both.solution[0]).cwiseAbs().maxCoeff(), 1e-11);
 }
 
 // The chain with the unknowns around its cubic spring named as a local solve's set (local_solve_rows): after
@@ -207,26 +219,14 @@ class ChainWithLocalPart : public Chain {
 
 TEST(NewtonLocalSolve, ReachesGlobalNewtonsSolutionWithFewerFactorisations) {
   ChainWithLocalPart chain(401, 200, 0.04, 20.0);
-  NewtonOptions options;
-  options.tol_relative = 1e-12;
-  auto solver = make_linear_solver("auto", true);
-  Eigen::VectorXd start = Eigen::VectorXd::Zero(401);
-  ASSERT_TRUE(newton_solve(chain, start, 1.0, options, *solver).converged);
-  NewtonReport reports[2];
-  Eigen::VectorXd solutions[2];
-  for (int local : {0, 1}) {
-    options.local_newton = local ? 6 : 0;
-    Eigen::VectorXd q = start;
-    reports[local] = newton_solve(chain, q, 1.5, options, *solver);
-    ASSERT_TRUE(reports[local].converged) << reports[local].failure;
-    solutions[local] = q;
-  }
+  const PlainAndLocal both = load_step_both_ways(chain, 1.5, [](NewtonOptions& o) { o.local_newton = 6; });
+  const NewtonReport* reports = both.report;
   EXPECT_EQ(reports[0].local_updates, 0);
   EXPECT_GE(reports[1].local_updates, 1);
   EXPECT_GE(reports[0].factorizations, 4);  // the cubic spring: several global updates to 1e-12
   EXPECT_LT(reports[1].factorizations, reports[0].factorizations);
   // Both stop at |r| <= 1e-12 |r_0| and the tangent's smallest eigenvalue is >= 0.04.
-  EXPECT_LT((solutions[1] - solutions[0]).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((both.solution[1] - both.solution[0]).cwiseAbs().maxCoeff(), 1e-10);
 }
 
 // K = [1 2; 2 5], r = K q - [1, 0] from q = 0: the seed is row 0 alone, whose local update (dq_0 = 1) leaves
