@@ -1,10 +1,10 @@
 #include "path/nonlinear.hpp"
 
 #include <algorithm>
-#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -274,8 +274,8 @@ class NewtonIteration {
       total += dq;
     }
     if (opt_.verbose)
-      std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e (%.3f s)\n",
-                   t_, it, rows.size(), updates, begin, last,
+      std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e"
+                   " (%.3f s)\n", t_, it, rows.size(), updates, begin, last,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (updates == 0) {
       sys_.evaluate(q_, t_, true);  // the partial evaluation replaced the iterate's tangent
