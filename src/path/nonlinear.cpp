@@ -78,10 +78,17 @@ class NewtonIteration {
   NewtonReport run() {
     solver_.begin_step();
     for (int it = 0;; ++it) {
+      // The global update after a local solve may reuse the factorisation in hand (chord_after_local_solve).
+      const bool chord = chord_after_local_solve();
+      if (chord) reuse_ = true;
       // A local first update assembles its own part of the tangent (local_step).
-      const bool with_tangent = !reuse_ && !expect_converged_ && !(it == 0 && local_first());
+      bool with_tangent = !reuse_ && !expect_converged_ && !(it == 0 && local_first());
       double norm = evaluate(it, with_tangent);
-      if (local_pending_) norm = keep_or_undo_local(it, norm);
+      if (local_pending_) {
+        norm = keep_or_undo_local(it, norm);
+        with_tangent = with_tangent || !local_kept_;  // taken back: evaluated again with the tangent
+        if (chord && !local_kept_) reuse_ = false;     // and factorised, as without the chord
+      }
       rep_.residual_norm = norm;
       rep_.history.push_back(norm);
       if (opt_.verbose) std::fprintf(stderr, "  newton t=%.6g it=%d |r|=%.6e\n", t_, it, norm);
@@ -99,9 +106,13 @@ class NewtonIteration {
       if (it == 0 && local_first() && local_step(it)) continue;
       // A reused factorisation must keep cutting |r| by 4 (slower linear rates took dozens of updates on
       // the strongly nonlinear spring chain of the tests); where it did not, this iterate gets its own
-      // tangent (one more evaluation, now with the tangent).
+      // tangent (one more evaluation, now with the tangent). A chord after a local solve is tried whatever
+      // the local solve's contraction, which says nothing of the global rate.
       const double contraction = it > 0 ? norm / rep_.history[it - 1] : 1.0;
-      if (reuse_ && (!factor_valid_ || !(contraction <= 0.25))) reuse_ = false;
+      if (reuse_ && !chord && (!factor_valid_ || !(contraction <= 0.25))) {
+        reuse_ = false;
+        factor_spent_ = factor_spent_ || reused_update_;
+      }
       // A local solve where the last update was global and the residual has gathered on a local set.
       const bool after_local = local_solved_;
       local_solved_ = !reuse_ && it > 0 && !after_local && opt_.local_newton > 0 && local_solve(it);
@@ -110,6 +121,7 @@ class NewtonIteration {
       if (fresh && !with_tangent) sys_.evaluate(q_, t_, true);
       if (fresh && !factorise(it)) return rep_;
       if (!update(it)) return rep_;
+      reused_update_ = !fresh;
       // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
       // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
       // factorisation is tried at once.
@@ -184,6 +196,8 @@ class NewtonIteration {
       return false;
     }
     factor_valid_ = true;
+    factor_norm_ = rep_.history[it];
+    factor_spent_ = false;
     floor_estimate_ = sys_.roundoff_floor();
     ++rep_.factorizations;
     rep_.negative_eigenvalues = solver_.negative_eigenvalues();
@@ -195,6 +209,16 @@ class NewtonIteration {
                    solver_.name().c_str(), inertia.c_str(), floor_estimate_);
     }
     return true;
+  }
+
+  // Whether the global update after a local solve reuses the factorisation in hand (a chord) instead of
+  // factorising this iterate's tangent: where that factorisation was made at an iterate whose |r| was at
+  // most reuse_below of the solve's first (Newton was in its fast regime there, and the local solve has
+  // taken up the part that is not), and no reused update with it has failed to cut |r| by 4. The reuse
+  // rule then goes on as after any reused factorisation.
+  bool chord_after_local_solve() const {
+    return local_pending_ && local_solved_ && factor_valid_ && !factor_spent_ && opt_.reuse_below > 0 &&
+           !rep_.history.empty() && factor_norm_ <= opt_.reuse_below * rep_.history.front();
   }
 
   // Whether a solve's first update is local (NewtonOptions::local_share).
@@ -345,6 +369,9 @@ class NewtonIteration {
   // Factorisation reuse (opt.reuse_below): `reuse_` when the last update contracted |r| enough that this
   // iteration tries the factorisation it was solved with.
   bool reuse_ = false, factor_valid_ = false;
+  double factor_norm_ = 0.0;  // |r| of the iterate whose tangent the factorisation in hand is
+  bool factor_spent_ = false;  // a reused update with it did not cut |r| by 4: no chord after a local solve
+  bool reused_update_ = false;  // the last global update solved with a reused factorisation
   // No tangent is assembled for an iterate the last update predicts converged (quadratic rate: |r| times
   // the last contraction squared below the tolerance): plain Newton would assemble one at its last iterate
   // and not use it. If the prediction fails, the iterate is evaluated once more, with its tangent. (The

@@ -104,7 +104,9 @@ struct NewtonOptions {
   // Factorisation reuse (modified Newton; 0: off). Once an update has cut |r| to this fraction or less,
   // the next updates reuse the latest factorisation with residual-only evaluations, as long as each cuts
   // |r| by at least 4; otherwise the tangent is assembled and factorised again. Where Newton converges
-  // quadratically this replaces the last factorisations of a step by solves.
+  // quadratically this replaces the last factorisations of a step by solves. For exact (direct) solvers:
+  // a Krylov solver multiplies by the system's tangent, which residual-only evaluations leave stale and a
+  // local solve's partial evaluation replaces (the case reader refuses reuse_factorization with them).
   double reuse_below = 0;
   // With reuse_below: the factorisation of a step's first iterate is reused from the next update on, under
   // the same rule (each update must cut |r| by 4, else the tangent is factorised), where Newton's first
@@ -127,7 +129,10 @@ struct NewtonOptions {
   // NonlinearSystem::local_solve_rows), up to this many updates on that set alone, each from the tangent's
   // entries on its rows at the set's current iterate (evaluate_tangent_on), until |r| on the set has fallen
   // to 2 % of where it began, or stops falling (that update is taken back). The next evaluation keeps the
-  // local solve's result where |r| fell and takes it back otherwise; the update after it is global. Where a
+  // local solve's result where |r| fell and takes it back otherwise; the update after it is global: with
+  // reuse_below, after a kept local solve, a chord with the factorisation in hand where that was made at an
+  // iterate whose |r| was at most reuse_below of the solve's first and no reused update with it has failed
+  // to cut |r| by 4, else from this iterate's own factorisation. Where a
   // part of the system (a finely meshed fiber's end) is more nonlinear than the rest, this replaces
   // global factorisations by factorisations of the set (docs/performance.md, "Where Newton stalls").
   int local_newton = 0;

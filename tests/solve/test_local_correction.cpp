@@ -1,10 +1,12 @@
 // The local first update (path/local_correction.hpp): the rows it chooses, the update it solves, and
 // Newton with it (NewtonOptions::local_share): the same solution as global Newton, one global
 // factorisation fewer where the residual is local, and an update that raised |r| taken back; Newton's local
-// solves (NewtonOptions::local_newton): the same solution with fewer global factorisations.
+// solves (NewtonOptions::local_newton): the same solution with fewer global factorisations, and the
+// global update after them a chord where the factorisation in hand was made near the solution.
 #include <gtest/gtest.h>
 
 #include <barrier>
+#include <cmath>
 #include <functional>
 #include <thread>
 #include <vector>
@@ -227,6 +229,87 @@ TEST(NewtonLocalSolve, ReachesGlobalNewtonsSolutionWithFewerFactorisations) {
   EXPECT_LT(reports[1].factorizations, reports[0].factorizations);
   // Both stop at |r| <= 1e-12 |r_0| and the tangent's smallest eigenvalue is >= 0.04.
   EXPECT_LT((both.solution[1] - both.solution[0]).cwiseAbs().maxCoeff(), 1e-10);
+}
+
+// The chain (no cubic spring) with a stiffening wall at `hard`, beta (e^(alpha q_h) - 1) = t, and a load
+// t on each of its first 100 unknowns, a hundred unknowns from the wall (the response decays by e per ten
+// unknowns at ground 0.01): a load step's residual is mostly that far load's, which the first global
+// update removes exactly where the rest of the chain is linear (gamma = 0; gamma > 0 adds a cubic ground
+// gamma q_i^3 under every unknown). The local solves' set: the wall's unknown and three on each side.
+class ChainAtAWall : public Chain {
+ public:
+  ChainAtAWall(int n, int hard, double ground, double beta, double alpha, double gamma = 0.0)
+      : Chain(n, hard, ground, 0.0), hard_(hard), beta_(beta), alpha_(alpha), gamma_(gamma) {}
+  void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override {
+    Chain::evaluate(q, 0.0, with_tangent);
+    const double wall = std::exp(alpha_ * q[hard_]);
+    r_ = Chain::residual();
+    r_.head(100).array() -= t;
+    r_.array() += gamma_ * q.array().cube();
+    r_[hard_] += beta_ * (wall - 1.0) - t;
+    if (!with_tangent) return;
+    k_ = Chain::tangent();
+    k_.coeffRef(hard_, hard_) += beta_ * alpha_ * wall;
+    for (int i = 0; gamma_ != 0.0 && i < k_.rows(); ++i) k_.coeffRef(i, i) += 3 * gamma_ * q[i] * q[i];
+  }
+  const Eigen::VectorXd& residual() const override { return r_; }
+  const Eigen::SparseMatrix<double>& tangent() const override { return k_; }
+  std::vector<int> local_solve_rows() const override {
+    std::vector<int> rows;
+    for (int i = hard_ - 3; i <= hard_ + 3; ++i) rows.push_back(i);
+    return rows;
+  }
+
+ private:
+  int hard_;
+  double beta_, alpha_, gamma_;
+  Eigen::VectorXd r_;
+  Eigen::SparseMatrix<double> k_;
+};
+
+// A load step from t = 1 to 1.5 (|r_0| = 5.0): the first global update leaves 4.1e-2 on the wall, the
+// local solve 1.2e-2 beside its set; the second global update (its own factorisation, made at 1.2e-2 <=
+// 0.1 |r_0|) leaves 2.0e-5 on the wall, the second local solve 6.0e-6 beside the set. The update after it
+// reuses the second factorisation (a chord), and so do the updates after that while each cuts |r| by 4:
+// two factorisations, where without reuse the update after the second local solve factorises a third
+// time. (The second local solve's contraction, 1.2e-2 / 4.1e-2, is above 0.25, so the reuse after a kept
+// local update does not apply: the chord is this rule's.)
+TEST(NewtonLocalSolve, AfterALocalSolveAFactorisationMadeNearTheSolutionIsReused) {
+  ChainAtAWall chain(401, 200, 0.01, 1.0, 0.3);
+  const PlainAndLocal chord = load_step_both_ways(chain, 1.5, [](NewtonOptions& o) {
+    o.local_newton = 6;
+    o.reuse_below = 0.1;
+  });
+  const PlainAndLocal fresh = load_step_both_ways(chain, 1.5, [](NewtonOptions& o) { o.local_newton = 6; });
+  EXPECT_EQ(fresh.report[1].local_updates, 2);
+  EXPECT_EQ(fresh.report[1].factorizations, 3);
+  EXPECT_EQ(chord.report[1].local_updates, 2);
+  EXPECT_EQ(chord.report[1].factorizations, 2);
+  // Each run stops at |r| <= 1e-10 (the tolerance, or the round-off floor rule after an update below 1e-10
+  // of |q|) and the tangent's smallest eigenvalue is >= 0.01: each within 1e-8 of the solution.
+  for (const PlainAndLocal* both : {&chord, &fresh}) {
+    for (const NewtonReport& r : both->report) EXPECT_LE(r.residual_norm, 1e-10);
+    EXPECT_LT((both->solution[1] - both->solution[0]).cwiseAbs().maxCoeff(), 2e-8);
+  }
+}
+
+// With the cubic ground (gamma = 0.01), from t = 1 to 5: after the first local solve the second
+// factorisation (at |r| 1.2 <= 0.1 |r_0| = 4.0) is reused while the updates cut |r| by 4 (1.5e-2, 2.8e-3)
+// until one does not (7.4e-4); the local solve after it leaves 1.8e-4, and its global update factorises
+// again: a factorisation whose reuse has stalled is no chord after a local solve. Three factorisations
+// and eight updates; chords with the stalled factorisation after each local solve instead took two and
+// thirteen.
+TEST(NewtonLocalSolve, AFactorisationWhoseReuseStalledIsNotReusedAfterALocalSolve) {
+  ChainAtAWall chain(401, 200, 0.01, 1.0, 0.3, 0.01);
+  const PlainAndLocal both = load_step_both_ways(chain, 5.0, [](NewtonOptions& o) {
+    o.local_newton = 6;
+    o.reuse_below = 0.1;
+  });
+  EXPECT_EQ(both.report[1].local_updates, 2);
+  EXPECT_EQ(both.report[1].factorizations, 3);
+  EXPECT_EQ(both.report[1].iterations, 8);
+  for (const NewtonReport& r : both.report) EXPECT_LE(r.residual_norm, 1e-10);
+  EXPECT_LT((both.solution[1] - both.solution[0]).cwiseAbs().maxCoeff(), 2e-8);
 }
 
 // K = [1 2; 2 5], r = K q - [1, 0] from q = 0: the seed is row 0 alone, whose local update (dq_0 = 1) leaves
