@@ -272,8 +272,8 @@ class ChainAtAWall : public Chain {
 // 0.1 |r_0|) leaves 2.0e-5 on the wall, the second local solve 6.0e-6 beside the set. The update after it
 // reuses the second factorisation (a chord), and so do the updates after that while each cuts |r| by 4:
 // two factorisations, where without reuse the update after the second local solve factorises a third
-// time. (The second local solve's contraction, 1.2e-2 / 4.1e-2, is above 0.25, so the reuse after a kept
-// local update does not apply: the chord is this rule's.)
+// time. (The first local solve's contraction, 1.2e-2 / 4.1e-2 = 0.29, is above 0.25, so the reuse after a
+// kept local update does not follow the second factorisation: the chord is this rule's.)
 TEST(NewtonLocalSolve, AfterALocalSolveAFactorisationMadeNearTheSolutionIsReused) {
   ChainAtAWall chain(401, 200, 0.01, 1.0, 0.3);
   const PlainAndLocal chord = load_step_both_ways(chain, 1.5, [](NewtonOptions& o) {
