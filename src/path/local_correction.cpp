@@ -83,20 +83,63 @@ Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double
   return kss;
 }
 
+namespace {
+
+// r on the rows S, and the update ds on S spread to all rows (dq = 0 elsewhere); false for a non-finite ds.
+Eigen::VectorXd rows_of(const Eigen::VectorXd& r, const std::vector<int>& rows) {
+  Eigen::VectorXd rs(static_cast<Eigen::Index>(rows.size()));
+  for (std::size_t a = 0; a < rows.size(); ++a) rs[static_cast<Eigen::Index>(a)] = r[rows[a]];
+  return rs;
+}
+
+bool spread(const Eigen::VectorXd& ds, const std::vector<int>& rows, Eigen::Index n, Eigen::VectorXd& dq) {
+  if (!ds.allFinite()) return false;
+  dq.setZero(n);
+  for (std::size_t a = 0; a < rows.size(); ++a) dq[rows[a]] = ds[static_cast<Eigen::Index>(a)];
+  return true;
+}
+
+bool fits(const Eigen::SparseMatrix<double>& kss, const std::vector<int>& rows) {
+  const auto m = static_cast<Eigen::Index>(rows.size());
+  return m > 0 && kss.rows() == m && kss.cols() == m;
+}
+
+}  // namespace
+
 bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
                   const std::vector<int>& rows, Eigen::VectorXd& dq) {
-  const int m = static_cast<int>(rows.size());
-  if (m == 0 || kss.rows() != m || kss.cols() != m) return false;
-  Eigen::VectorXd rs(m);
-  for (int a = 0; a < m; ++a) rs[a] = r[rows[static_cast<std::size_t>(a)]];
+  if (!fits(kss, rows)) return false;
   auto solver = make_linear_solver("auto", symmetric);
   solver->analyze(kss);
   if (!solver->factorize(kss)) return false;
-  const Eigen::VectorXd ds = solver->solve(-rs);
-  if (!ds.allFinite()) return false;
-  dq.setZero(r.size());
-  for (int a = 0; a < m; ++a) dq[rows[static_cast<std::size_t>(a)]] = ds[a];
-  return true;
+  return spread(solver->solve(-rows_of(r, rows)), rows, r.size(), dq);
+}
+
+bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
+                                const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq) {
+  if (!fits(kss, rows)) return false;
+  const bool same = solver_ && symmetric == symmetric_ && pattern_version == pattern_version_ &&
+                    kss.nonZeros() == nonzeros_ && rows == rows_;
+  if (!same) {
+    solver_.reset();  // its factor first, before the new one is made
+    solver_ = make_linear_solver("auto", symmetric);
+    solver_->analyze(kss);
+    ++analyses_;
+    rows_ = rows;
+    pattern_version_ = pattern_version;
+    nonzeros_ = kss.nonZeros();
+    symmetric_ = symmetric;
+  }
+  ++factorizations_;
+  if (!solver_->factorize(kss)) {
+    solver_.reset();
+    return false;
+  }
+  return spread(solver_->solve(-rows_of(r, rows)), rows, r.size(), dq);
+}
+
+void LocalFactorization::release_factor() {
+  if (solver_) solver_->release_factor();
 }
 
 }  // namespace fibrane::solve

@@ -15,7 +15,10 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCore>
 #include <functional>
+#include <memory>
 #include <vector>
+
+#include "linalg/linear_solver.hpp"
 
 namespace fibrane::solve {
 
@@ -45,5 +48,30 @@ Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double
 /// factorisation fails or the update is not finite.
 bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
                   const std::vector<int>& rows, Eigen::VectorXd& dq);
+
+/// local_update for a sequence of updates, as a local Newton solve makes them: the solver, its analysis
+/// and its factor's storage are kept from one update to the next while the rows, the tangent's pattern
+/// (`pattern_version`, NonlinearSystem::pattern_version) and the symmetry stay the same. K_SS's ordering
+/// and symbolic factorisation are then made once per local solve instead of once per update (where the
+/// rows take in soft-minimum windows, whose dense blocks make K_SS's analysis cost half as much as its
+/// numeric factorisation), and the numeric factorisation writes into the factor it replaces.
+class LocalFactorization {
+ public:
+  bool update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
+              const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq);
+  /// Frees the factor (not the analysis): between local solves the global factorisation needs the memory.
+  void release_factor();
+  /// How many analyses and factorisations it has made.
+  int analyses() const { return analyses_; }
+  int factorizations() const { return factorizations_; }
+
+ private:
+  std::unique_ptr<LinearSolver> solver_;
+  std::vector<int> rows_;
+  int pattern_version_ = 0;
+  Eigen::Index nonzeros_ = -1;
+  bool symmetric_ = true;
+  int analyses_ = 0, factorizations_ = 0;
+};
 
 }  // namespace fibrane::solve

@@ -293,10 +293,11 @@ class NewtonIteration {
       last = now;
       if (updates > 0 && now <= kEnough * begin) break;
       const Eigen::SparseMatrix<double> kss = principal_submatrix(sys_.tangent(), rows);
-      if (!local_update(sys_.residual(), kss, sys_.symmetric(), rows, dq)) break;
+      if (!local_factor_.update(sys_.residual(), kss, sys_.symmetric(), rows, sys_.pattern_version(), dq)) break;
       q_ += dq;
       total += dq;
     }
+    local_factor_.release_factor();  // the global factorisation after it needs the memory
     if (opt_.verbose)
       std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e"
                    " (%.3f s)\n", t_, it, rows.size(), updates, begin, last,
@@ -381,6 +382,7 @@ class NewtonIteration {
   bool local_pending_ = false;  // the last update was local: the next evaluation keeps or undoes it
   bool local_kept_ = false;     // the last update was local and kept
   bool local_solved_ = false;   // the last update was a local solve (NewtonOptions::local_newton)
+  LocalFactorization local_factor_;  // K_SS's solver in local solves, its analysis kept while rows and pattern stay
 };
 
 }  // namespace

@@ -166,6 +166,39 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
   EXPECT_EQ(dq, Eigen::VectorXd::Constant(50, 7.0));
 }
 
+// A sequence of updates as a local solve makes them: the same bits as local_update's, one analysis while
+// the rows, the pattern's version and the symmetry stay, and a new one when any of them changes. A
+// released factor is made again from the kept analysis.
+TEST(LocalUpdate, AFactorizationKeepsItsAnalysisWhileRowsAndPatternStay) {
+  for (const double convection : {0.0, 0.4}) {
+    SCOPED_TRACE(convection);
+    const bool symmetric = convection == 0.0;
+    const Eigen::SparseMatrix<double> k = grid_matrix(30, 0.1, convection, 0.2, 3);
+    std::vector<int> rows, other;
+    for (int i = 0; i < 900; i += 3) rows.push_back(i);
+    for (int i = 1; i < 900; i += 3) other.push_back(i);
+    LocalFactorization factor;
+    const auto same_as_alone = [&](const std::vector<int>& s, double scale, int version) {
+      const Eigen::SparseMatrix<double> kss = principal_submatrix(scale * k, s);
+      const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(900, -1.0, 2.0 * scale);
+      Eigen::VectorXd kept, alone;
+      ASSERT_TRUE(factor.update(r, kss, symmetric, s, version, kept));
+      ASSERT_TRUE(local_update(r, kss, symmetric, s, alone));
+      EXPECT_EQ(kept, alone);
+    };
+    same_as_alone(rows, 1.0, 1);
+    same_as_alone(rows, 1.5, 1);  // other values, the same pattern
+    factor.release_factor();
+    same_as_alone(rows, 2.0, 1);
+    EXPECT_EQ(factor.analyses(), 1);
+    same_as_alone(rows, 2.0, 2);  // a new pattern version
+    EXPECT_EQ(factor.analyses(), 2);
+    same_as_alone(other, 2.0, 2);  // other rows of the same count
+    EXPECT_EQ(factor.analyses(), 3);
+    EXPECT_EQ(factor.factorizations(), 5);
+  }
+}
+
 // A load step on `chain` from its converged state at t = 1 to t, with Newton's options as given (to 1e-12
 // relative) and with `local` applied to them: the two reports and solutions, [0] without and [1] with.
 struct PlainAndLocal {
