@@ -255,6 +255,14 @@ void read_steps(RunSettings& run, const std::optional<io::YamlNode>& node) {
     (*node)["event_tolerance"].fail_message("applies to method: load_stepping (the arc-length and dynamics steps "
                                             "cross events wherever they fall)");
   read_newton(run.newton, *node);
+  // Steps at most this share of the planned dt (an event's approach and crossing) start with the last
+  // converged attempt's factorisation; it extends reuse_factorization's rule across steps.
+  s.reuse_in_short_steps = number_in(*node, "reuse_in_short_steps", 0.0, 1.0, false, false, 0.0);
+  if (node->has("reuse_in_short_steps") && run.method != "load_stepping")
+    (*node)["reuse_in_short_steps"].fail_message("applies to method: load_stepping (the arc-length and dynamics "
+                                                  "steps factorise their own tangents)");
+  if (s.reuse_in_short_steps > 0 && !(run.newton.reuse_below > 0))
+    (*node)["reuse_in_short_steps"].fail_message("needs reuse_factorization > 0 (the reuse rule it extends)");
   for (const char* key : {"local_first_update", "local_newton"})
     if (node->has(key) && run.method != "load_stepping")
       (*node)[key].fail_message("applies to method: load_stepping (the arc-length corrector and the dynamics' "

@@ -131,7 +131,12 @@ bool LoadStepping::attempt(NonlinearSystem& sys, const Eigen::VectorXd& q, Linea
     at.t_new = (sc.t_end - (t_ + at.dt) <= t_eps_) ? sc.t_end : t_ + at.dt;
     at.q = predict(q, at.t_new);
     if (located_change_) at.predicted = at.q;
-    at.newton = newton_solve(sys, at.q, at.t_new, newton_, solver);
+    // A factorisation from before a change of the model (a point switched to the soft minimum at the last
+    // accept) lacks the change's stiffness: the chord with it stalls, and the step factorises anyway.
+    const bool in_hand = factor_held_ && factor_changes_ == sys.model_changes();
+    at.newton = newton_solve(sys, at.q, at.t_new, newton_, solver, in_hand && at.dt <= sc.reuse_in_short_steps * dt_);
+    factor_held_ = at.newton.converged;  // a failed solve releases its factor
+    factor_changes_ = sys.model_changes();
     res.total_iterations += at.newton.iterations;
     res.local_updates += at.newton.local_updates;
     if (at.newton.converged) {
@@ -197,6 +202,7 @@ void LoadStepping::advance(NonlinearSystem& sys, Eigen::VectorXd& q, Attempt& at
 ContinuationResult LoadStepping::run(NonlinearSystem& sys, Eigen::VectorXd& q, LinearSolver& solver,
                                      const StepCallback& on_step) {
   const StepControl& sc = control_;
+  factor_held_ = false;
   if (!restored_) {
     t_ = t_prev_ = sc.t_start;
     dt_ = std::min(sc.dt_initial, sc.dt_max);

@@ -25,6 +25,11 @@ struct StepControl {
   // The model's events (NonlinearSystem::event_margin) are crossed in steps at most this long, at least
   // 2 dt_min (path/event_locator.hpp); 0: a step crosses them wherever the steps fall.
   double event_tolerance = 0;
+  // A step at most this share of the planned step (the dt that steps take without events; a located
+  // event's approach and crossing take shorter ones) starts with the factorisation that the attempt before
+  // it converged with, where there is one and the model has not changed since (newton_solve's
+  // factor_in_hand; it needs NewtonOptions::reuse_below > 0). 0: every step factorises its own tangent first.
+  double reuse_in_short_steps = 0;
 };
 
 // Throws InputError unless dt_initial, dt_min, dt_max > 0, 0 < cutback < 1, growth >= 1, t_end >= t_start.
@@ -48,6 +53,10 @@ class LoadStepping final : public ContinuationMethod {
   // Path state carried between steps (and across a restart).
   double t_ = 0, t_prev_ = 0, dt_ = 0;
   int steps_ = 0;
+  // The last attempt converged (kept or withdrawn), so the solver holds its factorisation; not saved in a
+  // checkpoint (a restarted run's first step factorises).
+  bool factor_held_ = false;
+  long factor_changes_ = 0;  // the system's model_changes() when that attempt ended
   // The converged states before the current one, the latest first (at most predictor_order of them).
   std::vector<double> t_past_;
   std::vector<Eigen::VectorXd> q_past_;

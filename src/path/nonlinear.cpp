@@ -72,8 +72,10 @@ namespace {
 // One Newton solve at load t (newton_solve's work), its state between iterations kept as members.
 class NewtonIteration {
  public:
-  NewtonIteration(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt, LinearSolver& solver)
-      : sys_(sys), q_(q), t_(t), opt_(opt), solver_(solver), give_up_(opt) {}
+  NewtonIteration(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt, LinearSolver& solver,
+                  bool factor_in_hand)
+      : sys_(sys), q_(q), t_(t), opt_(opt), solver_(solver), give_up_(opt),
+        carry_(factor_in_hand && opt.reuse_below > 0 && solver.held_factor_entries() > 0) {}
 
   NewtonReport run() {
     solver_.begin_step();
@@ -81,6 +83,12 @@ class NewtonIteration {
       // The global update after a local solve may reuse the factorisation in hand (chord_after_local_solve).
       const bool chord = chord_after_local_solve();
       if (chord) reuse_ = true;
+      // The solve's first global update with the factorisation in hand (newton_solve's factor_in_hand).
+      const bool carried = carry_ && !(it == 0 && local_first());
+      if (carried) {
+        reuse_ = factor_valid_ = true;
+        factor_norm_ = std::numeric_limits<double>::infinity();  // no chord after a local solve with it
+      }
       // A local first update assembles its own part of the tangent (local_step).
       bool with_tangent = !reuse_ && !expect_converged_ && !(it == 0 && local_first());
       double norm = evaluate(it, with_tangent);
@@ -109,7 +117,7 @@ class NewtonIteration {
       // tangent (one more evaluation, now with the tangent). A chord after a local solve is tried whatever
       // the local solve's contraction, which says nothing of the global rate.
       const double contraction = it > 0 ? norm / rep_.history[it - 1] : 1.0;
-      if (reuse_ && !chord && (!factor_valid_ || !(contraction <= 0.25))) {
+      if (reuse_ && !chord && !carried && (!factor_valid_ || !(contraction <= 0.25))) {
         reuse_ = false;
         factor_spent_ = factor_spent_ || reused_update_;
       }
@@ -122,6 +130,7 @@ class NewtonIteration {
       if (fresh && !factorise(it)) return rep_;
       if (!update(it)) return rep_;
       reused_update_ = !fresh;
+      carry_ = false;
       // Newton is in its fast regime once an update cut |r| to reuse_below: the next updates reuse the
       // factorisation just made (while each cuts |r| by 4, above). With reuse_first, the step's first
       // factorisation is tried at once.
@@ -196,6 +205,7 @@ class NewtonIteration {
       return false;
     }
     factor_valid_ = true;
+    carry_ = false;
     factor_norm_ = rep_.history[it];
     factor_spent_ = false;
     floor_estimate_ = sys_.roundoff_floor();
@@ -382,6 +392,9 @@ class NewtonIteration {
   bool local_pending_ = false;  // the last update was local: the next evaluation keeps or undoes it
   bool local_kept_ = false;     // the last update was local and kept
   bool local_solved_ = false;   // the last update was a local solve (NewtonOptions::local_newton)
+  // The solve's first global update is still to come, and it solves with the factorisation the solver
+  // holds from before the solve (a chord; the reuse rule then goes on as after any reused factorisation).
+  bool carry_ = false;
   LocalFactorization local_factor_;  // K_SS's solver in local solves, its analysis kept while rows and pattern stay
 };
 
@@ -394,9 +407,9 @@ bool analyze_if_needed(LinearSolver& solver, const NonlinearSystem& sys, const E
 }
 
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
-                          LinearSolver& solver) {
+                          LinearSolver& solver, bool factor_in_hand) {
   if (q.size() != sys.size()) throw std::invalid_argument("newton_solve: q has the wrong size");
-  NewtonReport rep = NewtonIteration(sys, q, t, opt, solver).run();
+  NewtonReport rep = NewtonIteration(sys, q, t, opt, solver, factor_in_hand).run();
   // A failed solve's factor is of no use (every caller factorises before it solves) and would be held
   // through the cut-back's first evaluation and factorisation, beside the memory they take.
   if (!rep.converged) solver.release_factor();

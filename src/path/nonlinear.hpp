@@ -199,7 +199,11 @@ bool analyze_if_needed(LinearSolver& solver, const NonlinearSystem& sys, const E
 // double precision allows for this configuration), or at the increment-based floor of tol_increment.
 // Fails (converged = false, message in failure) on: GiveUpRules, non-finite residual or update, failed
 // factorisation. q then holds the last iterate; the caller restores it if needed.
+// factor_in_hand: the solver holds a factorisation of this system's tangent at a nearby state (the last
+// converged solve's), and with reuse_below > 0 the solve's first global update (after the local first
+// update, where there is one) is a chord with it instead of a factorisation of its own iterate; the next
+// update keeps reusing it while each cuts |r| by 4 (the reuse rule), else factorises its own tangent.
 NewtonReport newton_solve(NonlinearSystem& sys, Eigen::VectorXd& q, double t, const NewtonOptions& opt,
-                          LinearSolver& solver);
+                          LinearSolver& solver, bool factor_in_hand = false);
 
 }  // namespace fibrane::solve

@@ -194,6 +194,38 @@ TEST(Continuation, StepSizeGrowsToDtMaxAndLandsExactlyOnTEnd) {
   EXPECT_NEAR(q[0], 0.5, 1e-12);  // linear spring k = 2 under unit load
 }
 
+// Steps of 0.3 to t = 1 on the saturating bar (tanh q = 0.5 t): the last step (0.1, at most 0.34 of the
+// planned 0.3) starts with the factorisation of the step before it (StepControl::reuse_in_short_steps) and
+// converges with chords alone, to the same state within Newton's tolerance; the full steps are untouched.
+TEST(Continuation, AShortStepStartsWithTheLastStepsFactorisation) {
+  const auto run = [](double share, std::vector<int>& iterations) {
+    SpringNetwork bar = make_bar(0.5);
+    CountingSolver solver(make_linear_solver("auto", true));
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(1);
+    StepControl sc;
+    sc.dt_initial = sc.dt_max = 0.3;
+    sc.reuse_in_short_steps = share;
+    NewtonOptions opt;
+    opt.reuse_below = 0.1;
+    opt.tol_relative = 1e-12;
+    const ContinuationResult res = LoadStepping(sc, opt).run(bar, q, solver, [&](const StepReport& rep, const Eigen::VectorXd&) {
+      iterations.push_back(rep.iterations);
+      return true;
+    });
+    EXPECT_TRUE(res.completed()) << res.message;
+    EXPECT_NEAR(std::tanh(q[0]), 0.5, 1e-11);
+    return solver.factorize_calls;
+  };
+  std::vector<int> own, reused, all_short;
+  const int factorized = run(0.0, own), fewer = run(0.34, reused);
+  ASSERT_EQ(own.size(), 4u);
+  ASSERT_EQ(reused.size(), 4u);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(reused[i], own[i]) << i;
+  EXPECT_LT(fewer, factorized);  // the last step factorises no tangent of its own
+  // With every step short (share 1), each step after the first starts with the last one's factorisation.
+  EXPECT_LT(run(1.0, all_short), fewer);
+}
+
 TEST(Continuation, CallbackCanStopEarly) {
   SpringNetwork bar = make_bar(0.5);
   auto solver = make_linear_solver("auto", true);

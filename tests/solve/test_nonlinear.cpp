@@ -157,6 +157,52 @@ TEST(Newton, FirstFactorisationReusedWhereItContracts) {
   EXPECT_EQ(first.factorizations, 1);
 }
 
+// r = K q + c q^3 - t f: the factorisation in hand from the converged solve at t = 1 (factor_in_hand)
+// serves the first update of the solve at a nearby load without any factorisation of its own, and where
+// the load is far (its chord no longer cuts |r| by 4) the solve factorises its own tangent after that
+// update. Each reaches the root to the tolerance. Without reuse_below, or with a solver that holds no
+// factor, factor_in_hand changes nothing.
+TEST(Newton, AFactorisationInHandServesANearbySolve) {
+  const Eigen::Vector3d f(1.0, -0.5, 0.25);
+  Eigen::Matrix3d k;
+  k << 4, -1, 0, -1, 4, -1, 0, -1, 4;
+  const double c = 1.0;
+  const auto residual = [&](const Eigen::VectorXd& q, double t) -> Eigen::VectorXd {
+    return k * q + c * q.array().cube().matrix() - t * f;
+  };
+  testing::ToySystem cubic(
+      3, residual,
+      [&](const Eigen::VectorXd& q, double) -> Eigen::MatrixXd {
+        return k + Eigen::MatrixXd((3 * c * q.array().square()).matrix().asDiagonal());
+      },
+      [&](const Eigen::VectorXd&, double) -> Eigen::VectorXd { return -f; });
+  NewtonOptions opt;
+  opt.tol_relative = 1e-13;
+  opt.reuse_below = 0.1;
+  // From the root at t = 1 with the solver as that solve left it, to t.
+  const auto from_root = [&](double t, bool in_hand, const NewtonOptions& o, bool fresh_solver = false) {
+    auto solver = make_linear_solver("auto", true);
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(3);
+    EXPECT_TRUE(newton_solve(cubic, q, 1.0, o, *solver).converged);
+    if (fresh_solver) solver = make_linear_solver("auto", true);
+    const NewtonReport rep = newton_solve(cubic, q, t, o, *solver, in_hand);
+    EXPECT_TRUE(rep.converged) << rep.failure;
+    EXPECT_LT(residual(q, t).norm(), 1e-12 * t * f.norm());
+    return rep;
+  };
+  const NewtonReport near = from_root(1.02, true, opt);
+  EXPECT_EQ(near.factorizations, 0);
+  EXPECT_GE(near.iterations, 2);  // chords, not one exact update
+  EXPECT_GE(from_root(1.02, false, opt).factorizations, 1);
+  const NewtonReport far = from_root(6.0, true, opt);
+  EXPECT_GT(far.history[1], 0.25 * far.history[0]);  // the chord with the old factor: too far
+  EXPECT_GE(far.factorizations, 1);
+  NewtonOptions plain = opt;
+  plain.reuse_below = 0;
+  EXPECT_EQ(from_root(1.02, true, plain).factorizations, from_root(1.02, false, plain).factorizations);
+  EXPECT_GE(from_root(1.02, true, opt, true).factorizations, 1);
+}
+
 TEST(Newton, ReactionsBalanceTheExternalLoad) {
   const double load = 0.5;
   SpringNetwork chain = make_chain(4, load);
