@@ -138,8 +138,6 @@ bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMat
   return spread(solver_->solve(-rows_of(r, rows)), rows, r.size(), dq);
 }
 
-void LocalFactorization::release_factor() {
-  if (solver_) solver_->release_factor();
-}
+void LocalFactorization::release() { solver_.reset(); }
 
 }  // namespace fibrane::solve

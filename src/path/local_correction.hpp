@@ -50,7 +50,7 @@ bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k
                   const std::vector<int>& rows, Eigen::VectorXd& dq);
 
 /// local_update for a sequence of updates, as a local Newton solve makes them: the solver, its analysis
-/// and its factor's storage are kept from one update to the next while the rows, the tangent's pattern
+/// and its factor's storage are kept from one update to the next (until release()) while the rows, the tangent's pattern
 /// (`pattern_version`, NonlinearSystem::pattern_version) and the symmetry stay the same. K_SS's ordering
 /// and symbolic factorisation are then made once per local solve instead of once per update (where the
 /// rows take in soft-minimum windows, whose dense blocks make K_SS's analysis cost half as much as its
@@ -59,8 +59,9 @@ class LocalFactorization {
  public:
   bool update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
               const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq);
-  /// Frees the factor (not the analysis): between local solves the global factorisation needs the memory.
-  void release_factor();
+  /// Frees the solver, analysis and all (its symmetry probe's map alone is 4 bytes per entry of K_SS): the
+  /// global factorisation after a local solve needs the memory, and the next local solve's rows differ.
+  void release();
   /// How many analyses and factorisations it has made.
   int analyses() const { return analyses_; }
   int factorizations() const { return factorizations_; }

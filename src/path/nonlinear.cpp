@@ -307,7 +307,7 @@ class NewtonIteration {
       q_ += dq;
       total += dq;
     }
-    local_factor_.release_factor();  // the global factorisation after it needs the memory
+    local_factor_.release();  // the global factorisation after it needs the memory
     if (opt_.verbose)
       std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e"
                    " (%.3f s)\n", t_, it, rows.size(), updates, begin, last,
@@ -395,7 +395,7 @@ class NewtonIteration {
   // The solve's first global update is still to come, and it solves with the factorisation the solver
   // holds from before the solve (a chord; the reuse rule then goes on as after any reused factorisation).
   bool carry_ = false;
-  LocalFactorization local_factor_;  // K_SS's solver in local solves, its analysis kept while rows and pattern stay
+  LocalFactorization local_factor_;  // K_SS's solver during a local solve, its analysis kept between updates
 };
 
 }  // namespace

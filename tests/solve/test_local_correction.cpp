@@ -167,8 +167,8 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
 }
 
 // A sequence of updates as a local solve makes them: the same bits as local_update's, one analysis while
-// the rows, the pattern's version and the symmetry stay, and a new one when any of them changes. A
-// released factor is made again from the kept analysis.
+// the rows, the pattern's version and the symmetry stay, and a new one when any of them changes or after
+// release().
 TEST(LocalUpdate, AFactorizationKeepsItsAnalysisWhileRowsAndPatternStay) {
   for (const double convection : {0.0, 0.4}) {
     SCOPED_TRACE(convection);
@@ -188,13 +188,14 @@ TEST(LocalUpdate, AFactorizationKeepsItsAnalysisWhileRowsAndPatternStay) {
     };
     same_as_alone(rows, 1.0, 1);
     same_as_alone(rows, 1.5, 1);  // other values, the same pattern
-    factor.release_factor();
-    same_as_alone(rows, 2.0, 1);
     EXPECT_EQ(factor.analyses(), 1);
     same_as_alone(rows, 2.0, 2);  // a new pattern version
     EXPECT_EQ(factor.analyses(), 2);
     same_as_alone(other, 2.0, 2);  // other rows of the same count
     EXPECT_EQ(factor.analyses(), 3);
+    factor.release();
+    same_as_alone(other, 2.0, 2);
+    EXPECT_EQ(factor.analyses(), 4);
     EXPECT_EQ(factor.factorizations(), 5);
   }
 }
