@@ -85,13 +85,14 @@ Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double
 
 namespace {
 
-// r on the rows S, and the update ds on S spread to all rows (dq = 0 elsewhere); false for a non-finite ds.
+// r on the rows S.
 Eigen::VectorXd rows_of(const Eigen::VectorXd& r, const std::vector<int>& rows) {
   Eigen::VectorXd rs(static_cast<Eigen::Index>(rows.size()));
   for (std::size_t a = 0; a < rows.size(); ++a) rs[static_cast<Eigen::Index>(a)] = r[rows[a]];
   return rs;
 }
 
+// The update ds on S spread to all n rows (dq = 0 elsewhere); false, dq untouched, for a non-finite ds.
 bool spread(const Eigen::VectorXd& ds, const std::vector<int>& rows, Eigen::Index n, Eigen::VectorXd& dq) {
   if (!ds.allFinite()) return false;
   dq.setZero(n);
@@ -108,11 +109,8 @@ bool fits(const Eigen::SparseMatrix<double>& kss, const std::vector<int>& rows) 
 
 bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
                   const std::vector<int>& rows, Eigen::VectorXd& dq) {
-  if (!fits(kss, rows)) return false;
-  auto solver = make_linear_solver("auto", symmetric);
-  solver->analyze(kss);
-  if (!solver->factorize(kss)) return false;
-  return spread(solver->solve(-rows_of(r, rows)), rows, r.size(), dq);
+  LocalFactorization once;
+  return once.update(r, kss, symmetric, rows, 0, dq);
 }
 
 bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
