@@ -11,13 +11,10 @@
 #include <exception>
 #include <iostream>
 #include <memory>
-#include <numeric>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
-
-#include <sys/resource.h>
 
 #include "common/error.hpp"
 #include "common/format.hpp"
@@ -29,6 +26,7 @@
 #include "run/checkpoint.hpp"
 #include "run/interrupt.hpp"
 #include "run/limit_points.hpp"
+#include "run/memory_report.hpp"
 #include "run/partition_report.hpp"
 #include "run/run_checks.hpp"
 #include "case/case_methods.hpp"
@@ -319,28 +317,12 @@ io::JsonValue limit_points_json(const std::vector<LimitPoint>& found) {
   return points;
 }
 
-// The case's memory estimate and the run's peak resident memory so far (getrusage's ru_maxrss, in KiB on
-// Linux). Collective in a distributed run: the peaks' sum over the processes, and the largest.
-io::JsonValue memory_json(const casefile::Case::MemoryEstimate& estimate, const solve::Distribution* d) {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const int processes = d ? d->size() : 1;
-  std::vector<double> peaks(processes, 0.0);
-  peaks[d ? d->rank() : 0] = 1024.0 * static_cast<double>(usage.ru_maxrss);
-  if (d) d->sum(peaks);
-  const auto bytes = [](double b) { return static_cast<std::int64_t>(std::llround(b)); };
-  io::JsonValue j = io::JsonValue::object();
-  j.set("estimated_bytes", bytes(estimate.bytes)).set("solver_path", estimate.path);
-  j.set("peak_bytes", bytes(std::accumulate(peaks.begin(), peaks.end(), 0.0)));
-  if (d) j.set("processes", processes).set("largest_process_peak_bytes", bytes(*std::max_element(peaks.begin(), peaks.end())));
-  return j;
-}
-
 }  // namespace
 
 RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   solve::set_thread_count(options.threads);  // OpenMP and OpenBLAS; 0 keeps the defaults
   const auto start = std::chrono::steady_clock::now();
+  InUsePeak in_use;
   RunSummary summary;
   summary.directory = options.output_directory.empty() ? c.output.directory : options.output_directory;
   // One run per directory, from before its first write to its exit; a distributed run's first process
@@ -393,7 +375,7 @@ RunSummary run_case(casefile::Case& c, const RunOptions& options) {
   extra.set("checkpoints", run.checkpoint_json());
   if (summary.interrupted_by) extra.set("interrupted", signal_name(summary.interrupted_by));
   if (d) extra.set("partition", partition_json(c.model->partition()));
-  extra.set("memory", memory_json(c.memory_estimate, d));
+  extra.set("memory", memory_json(c.memory_estimate, in_use, d));
   run.write_summary(summary, extra);
   return summary;
 }

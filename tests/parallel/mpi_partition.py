@@ -11,6 +11,8 @@ and checks
     elements, owned_unknowns and element_weight, the owned unknowns summing to free_dofs, the elements to
     the same total in both runs, imbalance = max / mean of element_weight, 0 < interface_unknowns <
     free_dofs; and the graph partition differs from the contiguous one;
+  - summary.json's "memory" of each: both peaks (resident, allocated) a sum over the processes, between the
+    largest process's and that many times it;
 and that `fibrane run CASE --partition metis` exits with 2, names the option, and writes nothing.
 Exit 0 when all hold, 1 with the failures listed otherwise.
 """
@@ -48,6 +50,18 @@ def check_partition(s, method, processes, label):
     return problems
 
 
+def check_memory(s, processes, label):
+    """Lines naming what is wrong with summary `s`'s memory section: each peak is a sum over the processes
+    of per-process peaks, the largest of which is given beside it."""
+    m = s["memory"]
+    problems = [] if m.get("processes") == processes else [f"{label}: memory processes {m.get('processes')}"]
+    for total, largest in (("peak_bytes", "largest_process_peak_bytes"),
+                           ("peak_allocated_bytes", "largest_process_peak_allocated_bytes")):
+        if not 0 < m[largest] <= m[total] <= processes * m[largest]:
+            problems.append(f"{label}: {largest} {m[largest]} and {total} {m[total]} are not a largest part and a sum")
+    return problems
+
+
 def bad_value(fibrane, case, work):
     """`--partition metis`: exit 2, a message naming --partition, no output directory."""
     directory = work / "rejected"
@@ -77,6 +91,7 @@ def main():
                     work, work / f"{directory.name}.log")
                 s = summary(directory)
                 problems += check_partition(s, method, processes, label)
+                problems += check_memory(s, processes, label)
                 partitions[method] = (s["partition"], read_history(directory / "history.csv"))
             (contiguous, reference), (graph, history) = partitions["contiguous"], partitions["graph"]
             problems += compare(reference, history, f"{name} np{processes}: graph against contiguous")
