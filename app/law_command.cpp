@@ -97,14 +97,9 @@ void evaluate_registry_law(const laws::InteractionLaw& law, const LawOptions& o)
   run([&] { print_json(law.name(), law.evaluate(o.distance, o.cosine), extra); });
 }
 
-}  // namespace
-
-void register_law_command(CLI::App& app) {
-  auto o = std::make_shared<LawOptions>();
-  auto* law = app.add_subcommand("law", "Evaluate one interaction law; prints JSON");
-  law->require_subcommand(1);
-
-  auto* half = law->add_subcommand("disk-halfspace", "Disk-half-space law, Eq. (55), any m > 3");
+// `fibrane law disk-halfspace` and `fibrane law disk-plate`: the paper's closed-form disk laws.
+void add_disk_laws(CLI::App& law, const std::shared_ptr<LawOptions>& o) {
+  auto* half = law.add_subcommand("disk-halfspace", "Disk-half-space law, Eq. (55), any m > 3");
   half->add_option("--m", o->m, "Exponent m > 3")->required();
   half->add_option("--radius", o->radius, "Disk radius R")->required();
   half->add_option("--distance", o->distance, "Disk centre to surface distance d")->required();
@@ -115,7 +110,7 @@ void register_law_command(CLI::App& app) {
     run([&] { print_json("disk-halfspace", laws::DiskHalfSpace(o->m, o->radius).evaluate(o->distance, o->cosine)); });
   });
 
-  auto* plate = law->add_subcommand("disk-plate", "Disk-plate law, Eq. (56), any m > 3");
+  auto* plate = law.add_subcommand("disk-plate", "Disk-plate law, Eq. (56), any m > 3");
   plate->add_option("--m", o->m, "Exponent m > 3")->required();
   plate->add_option("--radius", o->radius, "Disk radius R")->required();
   plate->add_option("--thickness", o->thickness, "Plate thickness h")->required();
@@ -129,8 +124,11 @@ void register_law_command(CLI::App& app) {
       print_json("disk-plate", laws::DiskPlate(o->m, o->radius, o->thickness).evaluate(o->distance, o->cosine));
     });
   });
+}
 
-  auto* lj = law->add_subcommand("lj-disk-plate", "Lennard-Jones disk-plate potential per unit length");
+// `fibrane law lj-disk-plate` and `fibrane law interaction`: laws of the registry, as case files name them.
+void add_registry_laws(CLI::App& law, const std::shared_ptr<LawOptions>& o) {
+  auto* lj = law.add_subcommand("lj-disk-plate", "Lennard-Jones disk-plate potential per unit length");
   lj->add_option("--radius", o->radius, "Disk radius R")->required();
   lj->add_option("--thickness", o->thickness, "Plate thickness h")->required();
   lj->add_option("--distance", o->distance, "Disk centre to mid-plane distance d")->required();
@@ -149,7 +147,7 @@ void register_law_command(CLI::App& app) {
     evaluate_registry_law(*laws::law_registry().make("lennard_jones", p, {o->radius, o->thickness}), *o);
   });
 
-  auto* any = law->add_subcommand("interaction", "Any interaction law of the registry (case files' law: {model: ...})");
+  auto* any = law.add_subcommand("interaction", "Any interaction law of the registry (case files' law: {model: ...})");
   any->add_option("--law", o->law, "The law as a YAML map, e.g. '{model: inverse_power, exponent: 9, coefficient: -1}'")
       ->required();
   any->add_option("--radius", o->radius, "Disk radius R")->required();
@@ -164,8 +162,11 @@ void register_law_command(CLI::App& app) {
   std::string known;
   for (const auto& e : laws::law_registry().entries()) known += "\n  " + e.name + ": " + e.summary;
   any->footer("Laws:" + known);
+}
 
-  auto* sphere = law->add_subcommand("disk-sphere", "Disk-sphere law (App. F, corrected), m = 6");
+// `fibrane law disk-sphere`: the disk-sphere law of Appendix F.
+void add_sphere_law(CLI::App& law, const std::shared_ptr<LawOptions>& o) {
+  auto* sphere = law.add_subcommand("disk-sphere", "Disk-sphere law (App. F, corrected), m = 6");
   sphere->add_option("--radius", o->radius, "Disk radius R_D")->required();
   sphere->add_option("--sphere-radius", o->sphere_radius, "Sphere radius R_S")->required();
   sphere->add_option("--distance", o->distance, "Distance between the centres")->required();
@@ -183,6 +184,17 @@ void register_law_command(CLI::App& app) {
       print_json("disk-sphere", v);
     });
   });
+}
+
+}  // namespace
+
+void register_law_command(CLI::App& app) {
+  auto o = std::make_shared<LawOptions>();
+  auto* law = app.add_subcommand("law", "Evaluate one interaction law; prints JSON");
+  law->require_subcommand(1);
+  add_disk_laws(*law, o);
+  add_registry_laws(*law, o);
+  add_sphere_law(*law, o);
 }
 
 }  // namespace fibrane::app
