@@ -89,6 +89,22 @@ std::optional<Eigen::Vector2d> escape_saddle(const spline::NurbsSurface& surface
   return std::nullopt;
 }
 
+// Backtracking along a Newton step: the first of theta + step / 2^k (k < 40, clipped to the parameter box)
+// where f does not exceed f0 beyond round-off (slack: an absolute allowance); its surface jet in `trial`.
+Eigen::Vector2d backtrack(const spline::NurbsSurface& surface, const std::vector<Eigen::Vector3d>& x,
+                          const Eigen::Vector3d& p, const Eigen::Vector2d& theta, const Eigen::Vector2d& step,
+                          const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, double f0, double slack,
+                          SurfaceJet& trial) {
+  double scale = 1.0;
+  Eigen::Vector2d next;
+  for (int k = 0; k < 40; ++k, scale *= 0.5) {
+    next = (theta + scale * step).cwiseMax(lo).cwiseMin(hi);
+    trial = evaluate(surface, x, next[0], next[1]);
+    if (f_of(p, trial) <= f0 * (1 + 1e-14) + slack) break;
+  }
+  return next;
+}
+
 constexpr int kLeafSize = 4;
 
 // Newton matrix C where it is positive definite. Else C with its eigenvalues (relative to the metric
@@ -317,15 +333,9 @@ ShellProximity::Projection ShellProximity::newton(const Eigen::Vector3d& p, Eige
     if (it == kMaxIterations) break;
     const Eigen::Vector2d step = projected_newton_step(newton_matrix(s, C), h, active);
     if (!step.allFinite()) break;  // overflow: not converged
-    const double f0 = 0.5 * D.squaredNorm();
-    double scale = 1.0;
-    Eigen::Vector2d next;
     SurfaceJet trial;
-    for (int k = 0; k < 40; ++k, scale *= 0.5) {
-      next = (theta + scale * step).cwiseMax(lo).cwiseMin(hi);
-      trial = evaluate(surface_, points_, next[0], next[1]);
-      if (0.5 * (p - trial.r).squaredNorm() <= f0 * (1 + 1e-14) + 1e-30 * length_scale_) break;
-    }
+    const Eigen::Vector2d next = backtrack(surface_, points_, p, theta, step, lo, hi, f_of(p, s),
+                                           1e-30 * length_scale_, trial);
     if (((next - theta).array().abs() <= 1e-15 * span.array()).all()) {
       // No further progress possible: accept if h is at the round-off level.
       theta = next;
