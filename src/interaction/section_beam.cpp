@@ -1,6 +1,7 @@
 #include "interaction/section_beam.hpp"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "common/jet.hpp"
@@ -19,22 +20,35 @@ V constant(const Eigen::Vector3d& v) { return {J(v.x()), J(v.y()), J(v.z())}; }
 J norm(const V& v) { return sqrt(ad::dot(v, v)); }
 V scaled(const J& s, const V& v) { return {s * v.x, s * v.y, s * v.z}; }
 
+// The result where the lower bound d - R_A - R_B of the gap (d from B's axis at its expansion point, which
+// must be the closest one) lies beyond the law's cut-off: no derivatives needed. nullopt otherwise.
+std::optional<SectionBeamResult> beyond_cutoff(const laws::SectionCylinderLaw& law, const SectionBeamPoint& p) {
+  const Eigen::Vector3d t = p.r[1].normalized(), diff = p.x - p.r[0];
+  const double d = (diff - diff.dot(t) * t).norm();
+  if (!(d - law.radius_a() - law.radius_b() >= law.cutoff_gap() && std::abs(diff.dot(t)) <= 1e-8 * diff.norm()))
+    return std::nullopt;
+  SectionBeamResult out;
+  out.distance = d;
+  out.gap = d - law.radius_a() - law.radius_b();
+  out.cos_angle = std::abs(p.x_xi.normalized().dot(t));
+  return out;
+}
+
+// The end taper T(u) of the closest point's arc length to B's nearer end (delta: the closest point's
+// parameter offset, half_d2 = delta^2 / 2); 1 where the taper is off.
+J end_taper(const EndTaper& taper, const J& delta, const J& half_d2) {
+  if (!(taper.length > 0)) return J(1.0);
+  const J u = (taper.s + taper.s_xi * delta + taper.s_xixi * half_d2) / taper.length;
+  if (u.v <= 0) return J(0.0);
+  if (u.v < 1) return u * u * (3.0 - 2.0 * u);
+  return J(1.0);
+}
+
 }  // namespace
 
 SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const SectionBeamPoint& p) {
-  // Beyond the cut-off by the lower bound d - R_A - R_B of the gap: no derivatives needed.
   const double ra = law.radius_a(), rb = law.radius_b();
-  {
-    const Eigen::Vector3d t = p.r[1].normalized(), diff = p.x - p.r[0];
-    const double d = (diff - diff.dot(t) * t).norm();
-    if (d - ra - rb >= law.cutoff_gap() && std::abs(diff.dot(t)) <= 1e-8 * diff.norm()) {
-      SectionBeamResult out;
-      out.distance = d;
-      out.gap = d - ra - rb;
-      out.cos_angle = std::abs(p.x_xi.normalized().dot(t));
-      return out;
-    }
-  }
+  if (auto far = beyond_cutoff(law, p)) return *far;
   const V x = variable(p.x, 0), x_xi = variable(p.x_xi, 3);
   const V r0 = variable(p.r[0], 6), r1 = variable(p.r[1], 9), r2 = variable(p.r[2], 12);
   const V r3 = constant(p.r[3]);
@@ -47,16 +61,7 @@ SectionBeamResult section_beam(const laws::SectionCylinderLaw& law, const Sectio
   const J delta1 = -(c0 / g1);
   const J delta = -((c0 + 0.5 * g2 * delta1 * delta1) / g1);
   const J half_d2 = 0.5 * delta * delta;
-  // The end taper T(u) of the closest point's arc length to B's nearer end.
-  J taper(1.0);
-  if (p.taper.length > 0) {
-    const J u = (p.taper.s + p.taper.s_xi * delta + p.taper.s_xixi * half_d2) / p.taper.length;
-    if (u.v <= 0) {
-      taper = J(0.0);
-    } else if (u.v < 1) {
-      taper = u * u * (3.0 - 2.0 * u);
-    }
-  }
+  const J taper = end_taper(p.taper, delta, half_d2);
   const V xb = r0 + scaled(delta, r1) + scaled(half_d2, r2);
   const V tb_raw = r1 + scaled(delta, r2) + scaled(half_d2, r3);
   const V tb = scaled(1.0 / norm(tb_raw), tb_raw);
