@@ -1,7 +1,7 @@
 // The sparse solvers on a case's tangent at t = 0 (undeformed, after one evaluation), or at the state of a
 // run's checkpoint (--state DIR: the output directory of a run of the same case, unfinished):
 //   bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S]
-//                       [--rounds R] [--state DIR]
+//                       [--rounds R] [--state DIR] [--without-window-fill]
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in domains
 // below METIS's separators where the matrix is large enough, as steps.split makes it: as many domains as threads),
@@ -22,6 +22,7 @@
 // with several rounds the largest relative change of the solution from the first round's (0: repeatable to
 // the last bit), and the peak resident memory the solver added to the process (VmHWM, reset before each solver, less the resident
 // size then; the largest over the rounds).
+// --without-window-fill: the tangent without the soft windows' fill (drop_window_fill), with --state DIR.
 #include <omp.h>
 #include <sys/resource.h>
 
@@ -174,17 +175,53 @@ std::string best_median(std::vector<double> v) {
 
 }  // namespace
 
+// --without-window-fill: removes from k (the tangent of c's model at a state) the entries that join two shell
+// unknowns and that the tangent at t = 0 lacks. A shell element's own entries, and every entry of a beam
+// row, are in both; what is left out is the fill of the soft points' dense rank-one terms c m m^T over
+// their windows (interaction/soft_distance.cpp), which join window control points of different elements.
+// The matrix so made is not the tangent (the terms' entries within an element stay): it measures what a
+// factorisation without the windows' fill would cost.
+void drop_window_fill(const std::string& path, const fibrane::model::Model& m, Eigen::SparseMatrix<double>& k) {
+  auto start = fibrane::casefile::read_case(path);
+  evaluate_at_state(start, "", true);
+  const Eigen::SparseMatrix<double>& k0 = start.model->tangent();
+  std::vector<char> beam(static_cast<size_t>(k.rows()), 0);  // rows of blocks of 4 DOFs per node: beams
+  for (int i = 0; i < k.rows(); ++i) {
+    const int dof = m.constraints.free_dof(i);
+    for (int b = 0; b < m.dofs.num_blocks(); ++b)
+      if (dof >= m.dofs.block_offset(b) && dof < m.dofs.block_offset(b) + m.dofs.block_size(b))
+        beam[static_cast<size_t>(i)] = m.dofs.dofs_per_node(b) == 4;
+  }
+  auto in_start = [&](int i, int j) {
+    const int* first = k0.innerIndexPtr() + k0.outerIndexPtr()[j];
+    return std::binary_search(first, k0.innerIndexPtr() + k0.outerIndexPtr()[j + 1], i);
+  };
+  std::vector<Eigen::Triplet<double>> kept;
+  kept.reserve(static_cast<size_t>(k0.nonZeros()));
+  for (int j = 0; j < k.outerSize(); ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(k, j); it; ++it) {
+      const int i = static_cast<int>(it.row());
+      if (beam[static_cast<size_t>(i)] || beam[static_cast<size_t>(j)] || in_start(i, j))
+        kept.emplace_back(i, j, it.value());
+    }
+  fmt::print("without the windows' fill: {} of {} entries dropped (t = 0: {} entries)\n",
+             k.nonZeros() - static_cast<long>(kept.size()), k.nonZeros(), k0.nonZeros());
+  k.setFromTriplets(kept.begin(), kept.end());
+}
+
 int run_bench(int argc, char** argv) {
   fibrane::run::configure_process_environment(argc, argv);  // the environment of `fibrane run`
   const char* usage =
       "usage: bench_linear_solver CASE.yaml [--threads N] [--replace FROM TO]... [--solver KIND]... [--shift S] "
-      "[--rounds R] [--state DIR]\n  analysis, factorisation and solve of the case's first tangent, or its tangent at the "
+      "[--rounds R] [--state DIR] [--without-window-fill]\n  analysis, factorisation and solve of the case's first tangent, or its tangent at the "
       "checkpoint in DIR (shifted by -S mean(diag) I)\n";
   std::vector<std::string> kinds;
   double shift = 0;
   int rounds = 1, code = 0;
   std::string state;
+  bool without_window_fill = false;
   const auto path = case_arguments(argc, argv, usage, [&](const std::string& a, int& i) {
+    if (a == "--without-window-fill") return without_window_fill = true;
     if (i + 1 >= argc) return false;
     if (a == "--solver") kinds.emplace_back(argv[++i]);
     else if (a == "--shift") shift = std::stod(argv[++i]);
@@ -199,6 +236,7 @@ int run_bench(int argc, char** argv) {
   auto& m = *c.model;
   evaluate_at_state(c, state, true);
   Eigen::SparseMatrix<double> k = m.tangent();
+  if (without_window_fill) drop_window_fill(*path, m, k);
   const double mean_diagonal = k.diagonal().mean();
   if (shift != 0) k.diagonal().array() -= shift * mean_diagonal;
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(k.rows());
