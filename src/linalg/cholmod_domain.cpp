@@ -22,7 +22,19 @@ CholmodDomain::~CholmodDomain() {
 }
 
 bool CholmodDomain::analyse(const Eigen::SparseMatrix<double>& a) {
-  lower = principal_lower(a, rows);
+  PrincipalLower next = principal_lower(a, rows);
+  kept_analysis = factor && next.column_start == lower.column_start && next.row == lower.row;
+  lower = std::move(next);
+  // What the last factorisation left that depends on where H's entries lie in a's values, or on its
+  // outcome: the permuted triangle's map into a's values and MUMPS's analysis are made again at their
+  // first use, and LL^T is tried first.
+  permuted.clear();
+  ldlt.reset();
+  ldlt_first_ = false;
+  indefinite = false;
+  negative = 0;
+  c.resize(0, 0);
+  if (kept_analysis) return true;
   // CAMD's constrained minimum degree (the boundary a constraint set after the interior), which needed
   // fewer flops than METIS's order of the interior alone or of the whole domain with the boundary moved
   // last (docs/performance.md, "The factorisation's input").

@@ -36,6 +36,7 @@ struct CholmodDomain {
   std::unique_ptr<MumpsSchur> ldlt;  // where H was not positive definite; analysed at its first use
   bool indefinite = false;  // the last factorisation is ldlt's
   int negative = 0;         // negative eigenvalues of K_DD in the last factorisation
+  bool kept_analysis = false;  // the last analyse() kept the analysis before it
 
   CholmodDomain();
   ~CholmodDomain();
@@ -45,7 +46,10 @@ struct CholmodDomain {
   int boundary() const { return size() - interior; }
 
   /// Analyses H of `a` (rows as set) with the interior in CHOLMOD's fill-reducing order and the boundary
-  /// after it; false where CHOLMOD fails or its factor does not keep the boundary last.
+  /// after it; false where CHOLMOD fails or its factor does not keep the boundary last. Where H's pattern
+  /// is the last analysis's (a model's new entries elsewhere in the matrix), that analysis is kept
+  /// (`kept_analysis`) and only the entries' places in a's values are taken anew; the next factorisation
+  /// then starts as after a fresh analysis.
   bool analyse(const Eigen::SparseMatrix<double>& a);
   /// Factorises H from a's values: LL^T (and C), or where H is not positive definite and the build has
   /// MUMPS, LDL^T with the Schur complement; false where neither succeeds. After an indefinite K_DD, the

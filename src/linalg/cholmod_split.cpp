@@ -28,11 +28,14 @@ class CholmodSplitSolver final : public LinearSolver {
   explicit CholmodSplitSolver(const CholmodSplitOptions& o) : options_(o) {}
 
   void analyze(const SpMat& a) override {
+    std::vector<std::unique_ptr<CholmodDomain>> last = std::move(domains_);  // offered to split() for reuse
+    for (auto& d : last) d->release();  // their numeric factors, freed before the analyses as the rest is
     clear_parts();
     hand_back_freed_memory();
     threads_ = omp_get_max_threads();
-    split_ = a.rows() >= options_.min_unknowns && threads_ >= 2 && a.isCompressed() && split(a);
+    split_ = a.rows() >= options_.min_unknowns && threads_ >= 2 && a.isCompressed() && split(a, last);
     if (split_) return;
+    last.clear();
     tree_.clear();  // a tree that did not serve is not kept: the next pattern is divided anew
     clear_parts();
     if (!whole_) whole_ = make_cholmod_llt(options_.memory_limit_megabytes);
@@ -121,8 +124,9 @@ class CholmodSplitSolver final : public LinearSolver {
     if (factorisations_ > 0) {  // the solver's whole life, over all patterns
       std::snprintf(text, sizeof text,
                     "; %ld split factorisations: domains %.1f s, fronts %.1f s; LDL^T where not positive definite: "
-                    "%ld in a domain, %ld in a front; failed: %ld",
-                    factorisations_, domain_seconds_, front_seconds_, domain_ldlt_, front_ldlt_, failures_);
+                    "%ld in a domain, %ld in a front; failed: %ld; domains' analyses kept: %ld of %ld",
+                    factorisations_, domain_seconds_, front_seconds_, domain_ldlt_, front_ldlt_, failures_,
+                    kept_analyses_, domain_analyses_);
       summary += text;
     }
     return summary;
@@ -156,6 +160,7 @@ class CholmodSplitSolver final : public LinearSolver {
   }
   long separator() const { return split_ ? tree_.separator_rows() : 0; }
   int domain_count() const { return split_ ? static_cast<int>(domains_.size()) : 0; }
+  std::pair<long, long> kept_analyses() const { return {kept_analyses_, domain_analyses_}; }
   // The tree's nodes in postorder, each domain's interior in its factor's order.
   std::vector<int> pivot_order() const {
     if (!split_) return whole_ ? cholmod_pivot_order(*whole_) : std::vector<int>();
@@ -199,8 +204,10 @@ class CholmodSplitSolver final : public LinearSolver {
   }
 
   // The tree (kept where it still divides a's graph) and the analyses of its domains; false where the split
-  // does not serve.
-  bool split(const SpMat& a) {
+  // does not serve. A domain of `last` (the last analysis's, without numeric factors) with the same rows
+  // serves again, and keeps its analysis where its pattern is the same (CholmodDomain::analyse); the others
+  // are freed first.
+  bool split(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last) {
     if (tree_.divides(a))
       tree_.update_boundaries(a);
     else if (!tree_.build(a, {.levels = levels(), .min_rows = 1000, .max_separator = options_.max_separator}))
@@ -216,17 +223,24 @@ class CholmodSplitSolver final : public LinearSolver {
     }
     // the top bisection leaves each side a fifth of the rows at least (SeparatorTree::Options)
     for (std::size_t t = 0; t < domain_nodes_.size(); ++t) {
-      auto d = std::make_unique<CholmodDomain>();
       const SeparatorTree::Node& node = nodes[static_cast<std::size_t>(domain_nodes_[t])];
-      d->rows = node.rows;
+      std::vector<int> rows = node.rows;
+      rows.insert(rows.end(), node.boundary.begin(), node.boundary.end());
+      const auto same = std::find_if(last.begin(), last.end(), [&](const auto& d) {
+        return d && d->interior == static_cast<int>(node.rows.size()) && d->rows == rows;
+      });
+      std::unique_ptr<CholmodDomain> d = same != last.end() ? std::move(*same) : std::make_unique<CholmodDomain>();
+      d->rows = std::move(rows);
       d->interior = static_cast<int>(node.rows.size());
-      d->rows.insert(d->rows.end(), node.boundary.begin(), node.boundary.end());
       domains_.push_back(std::move(d));
     }
+    last.clear();
     domain_order_.resize(domains_.size());
     std::iota(domain_order_.begin(), domain_order_.end(), 0);
     if (!side_by_side(domain_order_, threads_, [&](int d) { return domains_[static_cast<std::size_t>(d)]->analyse(a); }))
       return false;
+    for (const auto& d : domains_) kept_analyses_ += d->kept_analysis;
+    domain_analyses_ += static_cast<long>(domains_.size());
     std::vector<double> work;
     for (const auto& d : domains_) work.push_back(d->flops);
     std::stable_sort(domain_order_.begin(), domain_order_.end(),
@@ -363,6 +377,7 @@ class CholmodSplitSolver final : public LinearSolver {
   // the domains' and fronts' LDL^T factorisations (where LL^T found the matrix not positive definite), and
   // the split factorisations that failed
   long domain_ldlt_ = 0, front_ldlt_ = 0, failures_ = 0;
+  long domain_analyses_ = 0, kept_analyses_ = 0;  // the domains' analyses, and those that kept the last one
   double domain_seconds_ = 0, front_seconds_ = 0;
 };
 
@@ -380,6 +395,11 @@ long cholmod_split_separator(const LinearSolver& solver) {
 int cholmod_split_domains(const LinearSolver& solver) {
   const auto* split = dynamic_cast<const CholmodSplitSolver*>(&solver);
   return split ? split->domain_count() : 0;
+}
+
+std::pair<long, long> cholmod_split_kept_analyses(const LinearSolver& solver) {
+  const auto* split = dynamic_cast<const CholmodSplitSolver*>(&solver);
+  return split ? split->kept_analyses() : std::pair<long, long>{0, 0};
 }
 
 std::vector<int> cholmod_split_pivot_order(const LinearSolver& solver) {

@@ -2,6 +2,7 @@
 // CHOLMOD's supernodal LL^T of a large matrix in domains below a tree of separators, the domains factorised
 // side by side.
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "linalg/linear_solver.hpp"
@@ -57,6 +58,10 @@ long cholmod_split_separator(const LinearSolver& solver);
 
 /// The domains of `solver`'s last analysis where it split the matrix, 0 otherwise.
 int cholmod_split_domains(const LinearSolver& solver);
+
+/// Over `solver`'s life (from make_cholmod_split_llt): the domains' analyses that kept the one before (a
+/// domain whose rows and pattern stayed), and all of them; {0, 0} for another solver.
+std::pair<long, long> cholmod_split_kept_analyses(const LinearSolver& solver);
 
 /// The pivot order of `solver`'s last analysis (as cholmod_pivot_order gives it) where it is from
 /// make_cholmod_split_llt: the tree's nodes in postorder, each domain's interior in its factor's order;

@@ -134,6 +134,42 @@ TEST(CholmodSplit, ANewPatternWithinTheHalvesKeepsTheSeparator) {
   EXPECT_LT(relative(solver->solve(b), whole_solve(across, b)), 1e-14);
 }
 
+// A new pattern within one half: the other half keeps its analysis (its rows and pattern stayed). What a
+// factorisation left (an indefinite half's LDL^T, where the build has MUMPS) does not carry over an analysis:
+// the solutions are the bits of a fresh solver's with the same separator.
+TEST(CholmodSplit, AHalfWhosePatternStayedKeepsItsAnalysis) {
+  auto solver = split_solver();
+  const SpMat a = spd(1);
+  solver->analyze(a);
+  ASSERT_TRUE(solver->factorize(a));
+  EXPECT_EQ(cholmod_split_kept_analyses(*solver), (std::pair<long, long>{0, 2}));
+  const std::vector<int> order = cholmod_split_pivot_order(*solver);
+  const int s = static_cast<int>(cholmod_split_separator(*solver));
+  const SpMat within = with_entry(a, order[0], order[1], -0.05);  // in the first half's interior
+  solver->analyze(within);
+  EXPECT_EQ(cholmod_split_kept_analyses(*solver), (std::pair<long, long>{1, 4}));
+  SpMat indefinite = within;  // the second half's last interior pivot made negative
+  const int last_interior = order[order.size() - static_cast<std::size_t>(s) - 1];
+  indefinite.coeffRef(last_interior, last_interior) = -10.0;
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(a.rows(), 1.0, -1.0);
+  if (solver->factorize(indefinite)) {  // with MUMPS
+    EXPECT_GT(solver->negative_eigenvalues(), 0);
+    EXPECT_LT((indefinite.selfadjointView<Eigen::Lower>() * solver->solve(b) - b).norm(), 1e-12 * b.norm());
+  }
+  solver->analyze(within);  // the same pattern again: both halves kept
+  EXPECT_EQ(cholmod_split_kept_analyses(*solver), (std::pair<long, long>{3, 6}));
+  auto fresh = split_solver();  // `a` first, so that it keeps the same separator for `within`
+  fresh->analyze(a);
+  fresh->analyze(within);
+  ASSERT_EQ(cholmod_split_separator(*fresh), s);
+  ASSERT_TRUE(solver->factorize(within));
+  ASSERT_TRUE(fresh->factorize(within));
+  EXPECT_EQ(solver->negative_eigenvalues(), 0);
+  const Eigen::VectorXd x = solver->solve(b);
+  EXPECT_TRUE(x == fresh->solve(b));
+  EXPECT_LT(relative(x, whole_solve(within, b)), 1e-14);
+}
+
 // An indefinite matrix takes the LDL^T in the halves and the separator's front where the build has MUMPS
 // (test_separator_tree.cpp has the solutions), and is refused otherwise; the pattern serves again.
 TEST(CholmodSplit, AnIndefiniteMatrixIsFactorisedByLdltOrRefused) {
