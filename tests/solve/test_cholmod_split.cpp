@@ -1,6 +1,7 @@
 // CHOLMOD's LL^T in two halves at METIS's separator (make_cholmod_split_llt) against the whole
 // factorisation: the same solutions to round-off, for new values, after a released factor and a new
-// pattern; indefinite matrices refused; the pivot order a permutation.
+// pattern; a half whose pattern stayed keeping its analysis; indefinite matrices refused; the pivot order a
+// permutation.
 #include <gtest/gtest.h>
 #include <omp.h>
 
