@@ -177,7 +177,7 @@ std::string best_median(std::vector<double> v) {
 
 // --without-window-fill: removes from k (the tangent of c's model at a state) the entries that join two shell
 // unknowns and that the tangent at t = 0 lacks. A shell element's own entries, and every entry of a beam
-// row, are in both; what is left out is the fill of the soft points' dense rank-one terms c m m^T over
+// row, are in both; what is left out is the fill of the soft points' dense rank-one terms s m m^T over
 // their windows (interaction/soft_distance.cpp), which join window control points of different elements.
 // The matrix so made is not the tangent (the terms' entries within an element stay): it measures what a
 // factorisation without the windows' fill would cost.
