@@ -311,7 +311,8 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
 double add_soft_rf2_point(const laws::InteractionLaw& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
-                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force, std::vector<int>* support) {
+                          Eigen::MatrixXd* tangent, Eigen::Vector3d* force, std::vector<int>* support,
+                          RankOneTerm* rank_one) {
   const Eigen::Index n = local_size(beam_basis, window);
   if (support == nullptr) {
     if (tangent != nullptr) prepare(tangent, n, "add_soft_rf2_point: tangent size");
@@ -331,7 +332,18 @@ double add_soft_rf2_point(const laws::InteractionLaw& law, double beta, const Ei
                              });
   if (tangent == nullptr) phi = law.evaluate(p.d.distance + offset, 1.0);
   if (energy != nullptr) *energy += weight * phi.value;
-  if (tangent != nullptr) k.noalias() += (weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c)) * p.m * p.m.transpose();
+  const double s = weight * (phi.d_dd * p.a * p.a + phi.d_d * p.c);
+  if (tangent != nullptr && rank_one != nullptr) {
+    rank_one->coefficient = s;
+    if (support != nullptr) {
+      rank_one->vector = p.m;
+    } else {
+      rank_one->vector.setZero(n);
+      expand_into(p.support, p.m, rank_one->vector);
+    }
+  } else if (tangent != nullptr) {
+    k.noalias() += s * p.m * p.m.transpose();
+  }
   if (support != nullptr) {
     *support = p.support;
     if (residual != nullptr) *residual = (weight * phi.d_d) * p.d.gradient;

@@ -98,10 +98,17 @@ SoftDistance soft_distance(double beta, const Eigen::RowVectorXd& beam_basis, co
 // With `support` given, *residual and *tangent are instead overwritten with their entries on the support:
 // the local DOFs listed in *support (the beam's and those of the window control points under a sample of
 // non-negligible weight; all others are zero), which is what an assembler needs.
+// With `rank_one` given as well as `tangent`, the Hessian's dense term weight (phi_dd a^2 + phi_d c) m m^T
+// is left out of *tangent and given as its coefficient and m (on the local DOFs, or on the support with
+// `support`): what remains couples the window's control points only within its elements.
+struct RankOneTerm {
+  double coefficient = 0;
+  Eigen::VectorXd vector;
+};
 double add_soft_rf2_point(const laws::InteractionLaw& law, double beta, const Eigen::RowVectorXd& beam_basis,
                           const Eigen::Matrix3Xd& beam_x, const SoftWindow& window, const Eigen::Matrix3Xd& window_x,
                           double offset, double weight, double* energy, Eigen::VectorXd* residual,
                           Eigen::MatrixXd* tangent, Eigen::Vector3d* force = nullptr,
-                          std::vector<int>* support = nullptr);
+                          std::vector<int>* support = nullptr, RankOneTerm* rank_one = nullptr);
 
 }  // namespace fibrane::interaction

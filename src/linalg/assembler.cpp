@@ -206,6 +206,31 @@ void SparseAssembler::add(int element, std::span<const int> local, const Eigen::
             r_local, k_local);
 }
 
+Eigen::SparseVector<double> SparseAssembler::reduce(int element, std::span<const int> local,
+                                                    const Eigen::VectorXd& v) const {
+  if (element < 0 || element >= num_elements())
+    throw std::out_of_range("SparseAssembler::reduce: element " + std::to_string(element) + " out of range");
+  if (static_cast<Eigen::Index>(local.size()) != v.size())
+    throw std::invalid_argument("SparseAssembler::reduce: size mismatch");
+  const bool fixed = element < fixed_.size();
+  const ElementTable& t = fixed ? fixed_ : variable_;
+  const auto e = static_cast<size_t>(fixed ? element : element - fixed_.size());
+  const int first = t.dof_begin[e], size = t.dof_begin[e + 1] - first;
+  const int* reduced = t.reduced.data() + t.reduced_begin[e];
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::size_t a = 0; a < local.size(); ++a) {
+    if (local[a] < 0 || local[a] >= size)
+      throw std::out_of_range("SparseAssembler::reduce: local DOF outside element " + std::to_string(element));
+    const int j = first + local[a];
+    for (int k = t.entry_begin[static_cast<size_t>(j)]; k < t.entry_begin[static_cast<size_t>(j) + 1]; ++k)
+      entries.emplace_back(reduced[t.entry_slot[static_cast<size_t>(k)]], 0,
+                           t.entry_coef[static_cast<size_t>(k)] * v[static_cast<Eigen::Index>(a)]);
+  }
+  Eigen::SparseMatrix<double> column(matrix_.rows(), 1);
+  column.setFromTriplets(entries.begin(), entries.end());  // duplicates summed
+  return column.col(0);
+}
+
 void SparseAssembler::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local) {
   if (static_cast<Eigen::Index>(dofs.size()) != r_local.size())
     throw std::invalid_argument("SparseAssembler::add_vector: size mismatch");

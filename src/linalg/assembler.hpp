@@ -62,6 +62,9 @@ class SparseAssembler {
   // A sub-block of an element: r_local / k_local belong to the element's DOFs local[0], local[1], ...
   // (indices into its DOF list), the rest of the element is untouched.
   void add(int element, std::span<const int> local, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local);
+  // T^T v for a vector v on a sub-block of an element's DOFs (as add()'s `local`): the reduced vector a
+  // term c v v^T held apart from the matrix contributes as c (T^T v)(T^T v)^T (RankOneTerms).
+  Eigen::SparseVector<double> reduce(int element, std::span<const int> local, const Eigen::VectorXd& v) const;
   // Residual-only contributions at arbitrary DOFs (point loads etc.), thread-safe.
   void add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local);
   // Explicit d r / d t at arbitrary DOFs (loads scaled by functions of t), thread-safe; ignored unless

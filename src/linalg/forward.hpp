@@ -3,5 +3,6 @@
 namespace fibrane::solve {
 class DofMap;
 class Distribution;
+struct RankOneTerms;
 class SparseAssembler;
 }  // namespace fibrane::solve

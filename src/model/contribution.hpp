@@ -75,6 +75,14 @@ class ElementSink {
     external_ = external;
     element_dofs_ = element_dofs;
   }
+  // Where `terms` is given (a serial partial evaluation for Newton's local updates, Model::
+  // evaluate_tangent_on), contributions whose tangent holds a dense rank-one term (soft-minimum points) add
+  // it with add_rank_one() instead of into their element matrix.
+  void hold_rank_one_apart(solve::RankOneTerms* terms) { rank_one_apart_ = terms; }
+  bool holds_rank_one_apart() const { return rank_one_apart_ != nullptr && with_tangent_; }
+  // The term c v v^T of element `element`, v on its local DOFs local[0], local[1], ...: recorded reduced
+  // (SparseAssembler::reduce), in neither the matrix nor d r / d t. Not thread-safe.
+  void add_rank_one(int element, std::span<const int> local, double c, const Eigen::VectorXd& v);
   bool with_tangent() const { return with_tangent_; }
   // Whether d residual / d t is being assembled (arc-length continuation): contributions whose residual
   // depends on t explicitly (loads) add that derivative with add_rate(). The part that prescribed values
@@ -100,6 +108,7 @@ class ElementSink {
   bool with_tangent_, with_rate_;
   const std::vector<char>* owned_;
   const solve::Distribution* distribution_;
+  solve::RankOneTerms* rank_one_apart_ = nullptr;
   Eigen::VectorXd* external_ = nullptr;
   const std::vector<std::vector<int>>* element_dofs_ = nullptr;
 };

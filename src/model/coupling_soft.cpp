@@ -150,7 +150,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   // Each soft point adds the sub-block of its support to its group's soft element (after the pairs). The
   // points are evaluated in parallel and added in their order afterwards: the sub-blocks overlap, and added
   // from several threads they would need a per-thread copy of the matrix values (solve::SparseAssembler).
-  // A distributed run evaluates the points of the soft elements this process owns.
+  // A distributed run evaluates the points of the soft elements this process owns. Where the sink holds
+  // rank-one terms apart (a partial evaluation for a local update), each point's dense term goes there.
   const int first_element = static_cast<int>(pairs_.size());
   std::vector<int> owned;
   for (int k = 0; k < static_cast<int>(soft_.size()); ++k)
@@ -164,6 +165,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   std::vector<Eigen::VectorXd> r_of(static_cast<std::size_t>(n_soft));
   std::vector<Eigen::MatrixXd> k_of(static_cast<std::size_t>(n_soft));
   std::vector<std::vector<int>> support_of(static_cast<std::size_t>(n_soft));
+  const bool apart = sink.holds_rank_one_apart();
+  std::vector<interaction::RankOneTerm> rank_one_of(apart ? static_cast<std::size_t>(n_soft) : 0);
   OrderedSum sum;  // static schedule, ordered sum: the same bits in every run with this thread count
   FirstError error;
 #pragma omp parallel reduction(|| : bad)
@@ -184,7 +187,8 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
         double e = 0;
         Eigen::Vector3d f;
         const double D = interaction::add_soft_rf2_point(*law_, beta, basis, beam_x, sp.window, window_x, sp.offset,
-                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support);
+                                                         qp.weight, &e, &r, with_tangent ? &kt : nullptr, &f, &support,
+                                                         apart ? &rank_one_of[static_cast<std::size_t>(k)] : nullptr);
         energy += e;
         auto& out = points_[sp.point];
         out.active = true;
@@ -205,7 +209,9 @@ double Coupling::evaluate_soft_points(const State& state, ElementSink& sink, boo
   for (int k = 0; k < n_soft; ++k) {
     const auto p = static_cast<std::size_t>(k);
     const int element = first_element + soft_[static_cast<std::size_t>(owned[p])].group;
-    if (!support_of[p].empty()) sink.add(element, support_of[p], r_of[p], with_tangent ? &k_of[p] : nullptr);
+    if (support_of[p].empty()) continue;
+    sink.add(element, support_of[p], r_of[p], with_tangent ? &k_of[p] : nullptr);
+    if (apart) sink.add_rank_one(element, support_of[p], rank_one_of[p].coefficient, rank_one_of[p].vector);
   }
   return sum.total();
 }

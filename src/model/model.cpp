@@ -10,6 +10,7 @@
 #include <omp.h>
 
 #include "common/error.hpp"
+#include "linalg/rank_one_terms.hpp"
 #include "model/ordered_sum.hpp"
 
 namespace fibrane::model {
@@ -69,6 +70,12 @@ void ElementSink::add(int element, std::span<const int> local, const Eigen::Vect
     const auto& dofs = (*element_dofs_)[static_cast<std::size_t>(element)];
     for (std::size_t a = 0; a < local.size(); ++a) (*external_)[dofs[local[a]]] -= r[static_cast<Eigen::Index>(a)];
   }
+}
+
+void ElementSink::add_rank_one(int element, std::span<const int> local, double c, const Eigen::VectorXd& v) {
+  if (!owns(element)) not_owned("rank-one term added");
+  if (!rank_one_apart_) throw std::logic_error("ElementSink::add_rank_one: the sink holds no rank-one terms apart");
+  rank_one_apart_->add(c, assembler_.reduce(first_ + element, local, v));
 }
 
 void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) {
@@ -242,7 +249,8 @@ void Model::evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) {
   evaluate_elements(q, t, with_tangent, nullptr);
 }
 
-void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows) {
+void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows,
+                              solve::RankOneTerms* apart) {
   if (!finalized_) throw std::logic_error("Model::evaluate before finalize");
   using clock = std::chrono::steady_clock;
   auto lap = [last = clock::now()](double& into) mutable {
@@ -282,6 +290,7 @@ void Model::evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tang
   const std::vector<char>* only = rows ? &meets : distribution_ ? &owned_ : nullptr;
   for (auto& e : entries_) {
     ElementSink sink(assembler_, e.first_element, with_tangent, with_tangent, only, distribution_);
+    sink.hold_rank_one_apart(apart);
     if (e.contribution->energy_kind() == EnergyKind::external) sink.record_external(&external_, &e.dofs);
     energies_[static_cast<int>(e.contribution->energy_kind())] += e.contribution->evaluate(s, sink, status_);
     lap(times_.*e.time);

@@ -94,8 +94,10 @@ class Model : public solve::TransientSystem {
   void evaluate(const Eigen::VectorXd& q, double t, bool with_tangent) override;
   const Eigen::VectorXd& residual() const override { return assembler_.reduced_residual(); }
   const Eigen::SparseMatrix<double>& tangent() const override { return assembler_.matrix(); }
-  // Only the elements whose free unknowns meet `rows` (model_local.cpp); distributed, those this process owns.
-  void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) override;
+  // Only the elements whose free unknowns meet `rows` (model_local.cpp); distributed, those this process
+  // owns. With `apart` in a serial run, the soft-minimum points' rank-one terms are held apart.
+  void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows,
+                           solve::RankOneTerms* apart) override;
   // The beams' free unknowns (model_local.cpp): a fiber's end is where a finely meshed model's global
   // Newton updates stall, and a local solve must move the fiber with it.
   std::vector<int> local_solve_rows() const override;
@@ -182,7 +184,9 @@ class Model : public solve::TransientSystem {
   void evaluate_non_finite(bool with_tangent);
   // evaluate() of the elements whose free unknowns meet `rows` (all where null; serial runs only). A
   // partial evaluation keeps the last load scale and round-off floor.
-  void evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows);
+  // `apart`: where the evaluation's sinks hold rank-one terms apart (ElementSink::hold_rank_one_apart).
+  void evaluate_elements(const Eigen::VectorXd& q, double t, bool with_tangent, const std::vector<int>* rows,
+                         solve::RankOneTerms* apart = nullptr);
   // Per assembler element id (fixed, then variable): whether its free unknowns meet `rows` (model_local.cpp).
   std::vector<char> elements_meeting(const std::vector<int>& rows) const;
   State state() const { return {u_, t_, dofs, functions}; }

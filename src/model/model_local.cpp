@@ -5,12 +5,16 @@
 #include <algorithm>
 
 #include "linalg/partition.hpp"
+#include "linalg/rank_one_terms.hpp"
 #include "model/model.hpp"
 
 namespace fibrane::model {
 
-void Model::evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows) {
-  evaluate_elements(q, t, true, &rows);
+void Model::evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& rows,
+                                solve::RankOneTerms* apart) {
+  // Distributed, each process would hold only its own soft points' terms: they stay in the tangent there.
+  if (apart) apart->clear();
+  evaluate_elements(q, t, true, &rows, distributed() ? nullptr : apart);
 }
 
 std::vector<int> Model::local_solve_rows() const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "linalg/linear_solver.hpp"
 
@@ -107,17 +108,27 @@ bool fits(const Eigen::SparseMatrix<double>& kss, const std::vector<int>& rows) 
 
 }  // namespace
 
-bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
-                  const std::vector<int>& rows, Eigen::VectorXd& dq) {
-  LocalFactorization once;
-  return once.update(r, kss, symmetric, rows, 0, dq);
+Eigen::SparseMatrix<double> local_matrix(const Eigen::SparseMatrix<double>& tangent, const std::vector<int>& rows,
+                                         const RankOneTerms& apart) {
+  Eigen::SparseMatrix<double> kss = principal_submatrix(tangent, rows);
+  if (!apart.empty()) kss.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0.0; });
+  return kss;
 }
 
-bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
-                                const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq) {
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, const RankOneTerms& apart,
+                  bool symmetric, const std::vector<int>& rows, Eigen::VectorXd& dq) {
+  LocalFactorization once;
+  return once.update(r, kss, apart, symmetric, rows, 0, dq);
+}
+
+bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss,
+                                const RankOneTerms& apart, bool symmetric, const std::vector<int>& rows,
+                                int pattern_version, Eigen::VectorXd& dq) {
   if (!fits(kss, rows)) return false;
-  const bool same = solver_ && symmetric == symmetric_ && pattern_version == pattern_version_ &&
-                    kss.nonZeros() == nonzeros_ && rows == rows_;
+  const std::span<const int> starts(kss.outerIndexPtr(), static_cast<std::size_t>(kss.cols()) + 1);
+  const std::span<const int> indices(kss.innerIndexPtr(), static_cast<std::size_t>(kss.nonZeros()));
+  const bool same = solver_ && symmetric == symmetric_ && pattern_version == pattern_version_ && rows == rows_ &&
+                    std::ranges::equal(starts, column_start_) && std::ranges::equal(indices, row_index_);
   if (!same) {
     solver_.reset();  // its factor first, before the new one is made
     solver_ = make_linear_solver("auto", symmetric);
@@ -125,7 +136,8 @@ bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMat
     ++analyses_;
     rows_ = rows;
     pattern_version_ = pattern_version;
-    nonzeros_ = kss.nonZeros();
+    column_start_.assign(starts.begin(), starts.end());
+    row_index_.assign(indices.begin(), indices.end());
     symmetric_ = symmetric;
   }
   ++factorizations_;
@@ -133,9 +145,16 @@ bool LocalFactorization::update(const Eigen::VectorXd& r, const Eigen::SparseMat
     solver_.reset();
     return false;
   }
-  return spread(solver_->solve(-rows_of(r, rows)), rows, r.size(), dq);
+  Eigen::MatrixXd u;
+  Eigen::VectorXd c;
+  apart.on_rows(rows, u, c);
+  return spread(solve_with_rank_one_terms(*solver_, u, c, -rows_of(r, rows)), rows, r.size(), dq);
 }
 
-void LocalFactorization::release() { solver_.reset(); }
+void LocalFactorization::release() {
+  solver_.reset();
+  column_start_ = {};
+  row_index_ = {};
+}
 
 }  // namespace fibrane::solve

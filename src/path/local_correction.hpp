@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "linalg/linear_solver.hpp"
+#include "linalg/rank_one_terms.hpp"
 
 namespace fibrane::solve {
 
@@ -42,24 +43,33 @@ std::vector<int> local_rows(const Eigen::VectorXd& r, const Eigen::SparseMatrix<
 /// K_SS: the principal submatrix of k on the rows S (sorted), in their order.
 Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double>& k, const std::vector<int>& rows);
 
-/// The update dq with K_SS dq_S = -r_S on the rows S (sorted) and dq = 0 elsewhere, `kss` the principal
-/// submatrix on S of the tangent, factorised by make_linear_solver("auto", symmetric) (LL^T, then LDL^T
-/// where it is indefinite; an LU for an unsymmetric tangent). False, dq untouched, where the
+/// The matrix a local update factorises: the principal submatrix on the rows S of a tangent assembled with
+/// the rank-one terms `apart` held apart (NonlinearSystem::evaluate_tangent_on), without the exact zeros
+/// that the terms' fill leaves there. With no terms apart, principal_submatrix.
+Eigen::SparseMatrix<double> local_matrix(const Eigen::SparseMatrix<double>& tangent, const std::vector<int>& rows,
+                                         const RankOneTerms& apart);
+
+/// The update dq with K_SS dq_S = -r_S on the rows S (sorted) and dq = 0 elsewhere, K_SS = `kss` plus the
+/// terms `apart` on S (RankOneTerms::on_rows; `kss` as local_matrix gives it), `kss` factorised by
+/// make_linear_solver("auto", symmetric) (LL^T, then LDL^T where it is indefinite; an LU for an
+/// unsymmetric tangent) and the terms added by solve_with_rank_one_terms. False, dq untouched, where the
 /// factorisation fails or the update is not finite.
-bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
-                  const std::vector<int>& rows, Eigen::VectorXd& dq);
+bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, const RankOneTerms& apart,
+                  bool symmetric, const std::vector<int>& rows, Eigen::VectorXd& dq);
 
 /// local_update for a sequence of updates, as a local Newton solve makes them: the solver, its analysis
 /// and its factor's storage are kept from one update to the next (until release()) while the rows, the
-/// tangent's pattern (`pattern_version`, NonlinearSystem::pattern_version) and the symmetry stay the same.
+/// pattern of `kss` (compared entry by entry: local_matrix's may change with the values; 4 bytes per entry
+/// kept), the tangent's pattern (`pattern_version`, NonlinearSystem::pattern_version) and the symmetry stay
+/// the same.
 /// K_SS's ordering and symbolic factorisation are then made once per local solve instead of once per
 /// update (where the rows take in soft-minimum windows, whose dense blocks make K_SS's analysis cost about
 /// three fifths of its numeric factorisation), and the numeric factorisation writes into the factor it
 /// replaces.
 class LocalFactorization {
  public:
-  bool update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, bool symmetric,
-              const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq);
+  bool update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, const RankOneTerms& apart,
+              bool symmetric, const std::vector<int>& rows, int pattern_version, Eigen::VectorXd& dq);
   /// Frees the solver, analysis and all (its symmetry probe's map alone is 4 bytes per entry of K_SS): the
   /// global factorisation after a local solve needs the memory, and the next local solve's rows differ.
   void release();
@@ -71,7 +81,7 @@ class LocalFactorization {
   std::unique_ptr<LinearSolver> solver_;
   std::vector<int> rows_;
   int pattern_version_ = 0;
-  Eigen::Index nonzeros_ = -1;
+  std::vector<int> column_start_, row_index_;  // kss's pattern at the last analysis
   bool symmetric_ = true;
   int analyses_ = 0, factorizations_ = 0;
 };

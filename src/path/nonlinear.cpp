@@ -249,14 +249,15 @@ class NewtonIteration {
     if (sys_.distributed()) unite = [this](std::vector<char>& added) { sys_.unite_flags(added); };
     const std::vector<int> rows = local_rows(r, pattern, {.share = opt_.local_share}, unite);
     if (2 * rows.size() > static_cast<std::size_t>(q_.size())) return false;
-    sys_.evaluate_tangent_on(q_, t_, rows);
-    const Eigen::SparseMatrix<double> kss = sys_.sum_over_processes(principal_submatrix(sys_.tangent(), rows));
+    sys_.evaluate_tangent_on(q_, t_, rows, &apart_);
+    const Eigen::SparseMatrix<double> kss = sys_.sum_over_processes(local_matrix(sys_.tangent(), rows, apart_));
     Eigen::VectorXd dq;
-    if (!local_update(r, kss, sys_.symmetric(), rows, dq)) return false;
+    if (!local_update(r, kss, apart_, sys_.symmetric(), rows, dq)) return false;
     q_ += dq;
     record_local(std::move(dq), it);
     if (opt_.verbose)
-      std::fprintf(stderr, "  newton t=%.6g it=%d local update on %zu rows (%.3f s)\n", t_, it, rows.size(),
+      std::fprintf(stderr, "  newton t=%.6g it=%d local update on %zu rows, %ld entries and %d rank-one terms (%.3f s)\n",
+                   t_, it, rows.size(), static_cast<long>(kss.nonZeros()), apart_.size(),
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return true;
   }
@@ -292,7 +293,7 @@ class NewtonIteration {
     double last = begin;
     int updates = 0;
     for (; updates < opt_.local_newton; ++updates) {
-      sys_.evaluate_tangent_on(q_, t_, rows);  // the set's rows of the residual are whole after it
+      sys_.evaluate_tangent_on(q_, t_, rows, &apart_);  // the set's rows of the residual are whole after it
       const double now = sys_.invalid_state().empty() ? norm_on_rows(sys_.residual()) : NAN;
       if (updates > 0 && !(now < last)) {  // the last update did not lower |r| on the set
         q_ -= dq;
@@ -302,8 +303,9 @@ class NewtonIteration {
       }
       last = now;
       if (updates > 0 && now <= kEnough * begin) break;
-      const Eigen::SparseMatrix<double> kss = principal_submatrix(sys_.tangent(), rows);
-      if (!local_factor_.update(sys_.residual(), kss, sys_.symmetric(), rows, sys_.pattern_version(), dq)) break;
+      const Eigen::SparseMatrix<double> kss = local_matrix(sys_.tangent(), rows, apart_);
+      if (!local_factor_.update(sys_.residual(), kss, apart_, sys_.symmetric(), rows, sys_.pattern_version(), dq))
+        break;
       q_ += dq;
       total += dq;
     }
@@ -396,6 +398,7 @@ class NewtonIteration {
   // holds from before the solve (a chord; the reuse rule then goes on as after any reused factorisation).
   bool carry_ = false;
   LocalFactorization local_factor_;  // K_SS's solver during a local solve, its analysis kept between updates
+  RankOneTerms apart_;  // the rank-one terms a partial evaluation held apart from the tangent
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <Eigen/SparseCore>
 
 #include "linalg/linear_solver.hpp"
+#include "linalg/rank_one_terms.hpp"
 
 namespace fibrane::solve {
 
@@ -26,8 +27,13 @@ class NonlinearSystem {
   // Evaluates at (q, t) what the tangent's entries with row and column among `rows` (sorted unknowns) need,
   // and may leave out the rest: afterwards tangent()'s principal submatrix on `rows` is the whole
   // evaluation's, while residual() and the other entries are unspecified until the next evaluate().
-  // Systems that cannot restrict their work evaluate everything (the default).
-  virtual void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& /*rows*/) {
+  // Systems that cannot restrict their work evaluate everything (the default). With `apart`, a system may
+  // hold dense symmetric rank-one terms of the tangent apart (cleared first, then filled): the tangent's
+  // principal submatrix on `rows` is then tangent()'s plus those terms' (RankOneTerms::on_rows), and
+  // tangent() holds exact zeros where only the terms would write. The default holds none apart.
+  virtual void evaluate_tangent_on(const Eigen::VectorXd& q, double t, const std::vector<int>& /*rows*/,
+                                   RankOneTerms* apart) {
+    if (apart) apart->clear();
     evaluate(q, t, true);
   }
   // The unknowns a local Newton solve always takes in beside the residual's own rows

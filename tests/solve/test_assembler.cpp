@@ -206,5 +206,32 @@ TEST(SparseAssembler, SubBlockAddEqualsMaskedElement) {
   EXPECT_THROW(part.add(1, Eigen::VectorXd::Zero(4), nullptr), std::invalid_argument);
 }
 
+// A rank-one term held apart (reduce): c (T^T v)(T^T v)^T is what adding the element matrix c v v^T on the
+// same local DOFs adds to the reduced matrix, for a fixed and a variable element, with real MPCs in T.
+TEST(SparseAssembler, ReducedVectorOfARankOneTermIsWhatItsMatrixAdds) {
+  const RandomProblem p = make_problem(80, 12, 9, 6);
+  SparseAssembler a;
+  a.set_pattern(p.constraints, {p.element_dofs.begin(), p.element_dofs.begin() + 6});
+  a.set_variable_elements({p.element_dofs.begin() + 6, p.element_dofs.end()});
+  ASSERT_GT((dense_t(p.constraints).array() != 0.0 && dense_t(p.constraints).array() != 1.0).count(), 5);
+  const std::vector<int> local{7, 2, 5, 0};
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(4, -1.5, 2.0);
+  for (int e : {1, 8}) {
+    a.begin(true);
+    const Eigen::MatrixXd k = -2.5 * v * v.transpose();
+    a.add(e, local, Eigen::VectorXd::Zero(4), &k);
+    a.end();
+    const Eigen::SparseVector<double> u = a.reduce(e, local, v);
+    EXPECT_EQ(u.size(), a.matrix().rows());
+    const Eigen::MatrixXd term = -2.5 * Eigen::VectorXd(u) * Eigen::VectorXd(u).transpose();
+    EXPECT_LE((Eigen::MatrixXd(a.matrix()) - term).cwiseAbs().maxCoeff(), 1e-14 * term.cwiseAbs().maxCoeff());
+    EXPECT_GT(term.cwiseAbs().maxCoeff(), 0.0);
+  }
+  const std::vector<int> outside{9};
+  EXPECT_THROW(a.reduce(1, outside, Eigen::VectorXd::Zero(1)), std::out_of_range);
+  EXPECT_THROW(a.reduce(1, local, Eigen::VectorXd::Zero(3)), std::invalid_argument);
+  EXPECT_THROW(a.reduce(12, local, v), std::out_of_range);
+}
+
 }  // namespace
 }  // namespace fibrane::solve

@@ -14,6 +14,7 @@
 #include "path/local_correction.hpp"
 #include "path/nonlinear.hpp"
 #include "linalg/linear_solver.hpp"
+#include "linalg/rank_one_terms.hpp"
 #include "solve/grid_matrix.hpp"
 #include "solve/toy_systems.hpp"
 
@@ -140,7 +141,7 @@ TEST(LocalUpdate, SolvesThePrincipalSubmatrixOnTheRows) {
     std::vector<int> rows;
     for (int i = 0; i < 900; i += 3) rows.push_back(i);
     Eigen::VectorXd dq;
-    ASSERT_TRUE(local_update(r, principal_submatrix(k, rows), convection == 0.0, rows, dq));
+    ASSERT_TRUE(local_update(r, principal_submatrix(k, rows), {}, convection == 0.0, rows, dq));
     const Eigen::VectorXd kdq = k * dq;
     double largest = 0;
     for (int i = 0; i < 900; ++i) {
@@ -162,8 +163,48 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
       if (k.coeff(i, j) != 0.0) k.coeffRef(i, j) = k.coeffRef(j, i) = 0.0;
   Eigen::VectorXd dq = Eigen::VectorXd::Constant(50, 7.0);
   const std::vector<int> rows{9, 10, 11, 12, 13};
-  EXPECT_FALSE(local_update(Eigen::VectorXd::Ones(50), principal_submatrix(k, rows), true, rows, dq));
+  EXPECT_FALSE(local_update(Eigen::VectorXd::Ones(50), principal_submatrix(k, rows), {}, true, rows, dq));
   EXPECT_EQ(dq, Eigen::VectorXd::Constant(50, 7.0));
+}
+
+// Rank-one terms held apart (RankOneTerms, local_matrix): a local update with the assembled part's
+// submatrix and the terms is the one with the whole matrix's submatrix, for terms of either sign, a term
+// with no entry on the rows and one with coefficient zero (both left out of the correction), and a
+// pattern whose exact zeros local_matrix drops.
+TEST(LocalUpdate, RankOneTermsHeldApartGiveTheWholeMatrixsUpdate) {
+  const int n = 900;
+  Eigen::SparseMatrix<double> a = grid_matrix(30, 0.1, 0.0, 0.2, 3);
+  RankOneTerms terms;
+  const auto term = [&](double c, int first, int count) {
+    Eigen::SparseVector<double> u(n);
+    for (int i = first; i < first + count; ++i) u.insert(i) = std::sin(1.0 + i);
+    terms.add(c, u);
+  };
+  term(-3.0, 100, 60);  // on the steric side: A + U C U^T less stiff than A
+  term(0.7, 130, 300);
+  term(5.0, 800, 50);   // no row of S
+  term(0.0, 120, 30);
+  std::vector<int> rows;
+  for (int i = 0; i < 600; ++i) rows.push_back(i);
+  // The assembled part with explicit zeros where only the terms' fill would be.
+  Eigen::SparseMatrix<double> with_zeros = a + 0.0 * terms.assembled(n);
+  ASSERT_GT(with_zeros.nonZeros(), a.nonZeros());
+  const Eigen::SparseMatrix<double> kss = local_matrix(with_zeros, rows, terms);
+  EXPECT_EQ(kss.nonZeros(), principal_submatrix(a, rows).nonZeros());
+  Eigen::MatrixXd u;
+  Eigen::VectorXd c;
+  terms.on_rows(rows, u, c);
+  EXPECT_EQ(u.cols(), 2);
+  const Eigen::SparseMatrix<double> whole = a + terms.assembled(n);
+  const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+  Eigen::VectorXd apart, direct;
+  ASSERT_TRUE(local_update(r, kss, terms, true, rows, apart));
+  ASSERT_TRUE(local_update(r, principal_submatrix(whole, rows), {}, true, rows, direct));
+  EXPECT_LT((apart - direct).norm(), 1e-12 * direct.norm());
+  // The terms matter: without them the update is another.
+  Eigen::VectorXd without;
+  ASSERT_TRUE(local_update(r, kss, {}, true, rows, without));
+  EXPECT_GT((without - direct).norm(), 1e-3 * direct.norm());
 }
 
 // A sequence of updates as a local solve makes them: the same bits as local_update's, one analysis while
@@ -182,8 +223,8 @@ TEST(LocalUpdate, AFactorizationKeepsItsAnalysisWhileRowsAndPatternStay) {
       const Eigen::SparseMatrix<double> kss = principal_submatrix(scale * k, s);
       const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(900, -1.0, 2.0 * scale);
       Eigen::VectorXd kept, alone;
-      ASSERT_TRUE(factor.update(r, kss, symmetric, s, version, kept));
-      ASSERT_TRUE(local_update(r, kss, symmetric, s, alone));
+      ASSERT_TRUE(factor.update(r, kss, {}, symmetric, s, version, kept));
+      ASSERT_TRUE(local_update(r, kss, {}, symmetric, s, alone));
       EXPECT_EQ(kept, alone);
     };
     same_as_alone(rows, 1.0, 1);
@@ -197,6 +238,20 @@ TEST(LocalUpdate, AFactorizationKeepsItsAnalysisWhileRowsAndPatternStay) {
     same_as_alone(other, 2.0, 2);
     EXPECT_EQ(factor.analyses(), 4);
     EXPECT_EQ(factor.factorizations(), 5);
+    // Patterns of one size and version that differ (an entry pair dropped here or there, as local_matrix
+    // drops exact zeros): each is analysed.
+    for (const int dropped : {0, 1}) {  // the pair (10, 0) or (11, 1): rows 1 and 31, or 4 and 34, of the grid
+      Eigen::SparseMatrix<double> kss = principal_submatrix(k, other);
+      ASSERT_NE(kss.coeff(10 + dropped, dropped), 0.0);
+      kss.coeffRef(10 + dropped, dropped) = kss.coeffRef(dropped, 10 + dropped) = 0.0;
+      kss.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0.0; });
+      const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(900, -1.0, 2.0);
+      Eigen::VectorXd kept, alone;
+      ASSERT_TRUE(factor.update(r, kss, {}, symmetric, other, 2, kept));
+      ASSERT_TRUE(local_update(r, kss, {}, symmetric, other, alone));
+      EXPECT_EQ(kept, alone);
+    }
+    EXPECT_EQ(factor.analyses(), 6);
   }
 }
 
