@@ -175,10 +175,11 @@ std::string blas_core_upgrade(const std::string& chosen, bool avx512, bool avx2_
 // For its lifetime, one BLAS thread if a factorisation is small (`factor_nonzeros` below
 // kSmallFactorEntries): its dense blocks are too small to share, and on a busy 2-core machine a second BLAS
 // thread made the peeling example's factorisation (2.0 M factor entries) several times slower. Larger
-// factorisations keep the configured count.
+// factorisations keep the configured count: the K_SS of the bending quarter's local updates (7-13 M factor
+// entries) factorises in about half the time on two (docs/performance.md, "A local first update").
 class BlasThreadsForFactor {
  public:
-  static constexpr long kSmallFactorEntries = 10'000'000;
+  static constexpr long kSmallFactorEntries = 4'000'000;
   explicit BlasThreadsForFactor(long factor_nonzeros);
   ~BlasThreadsForFactor();
   // Gives the BLAS its configured thread count back now (the destructor then has nothing to do).
