@@ -199,7 +199,7 @@ TEST(LocalFirstUpdate, SoftPointsRankOneTermsHeldApartSumToTheTangent) {
   ASSERT_TRUE(r.summary.result.completed()) << r.summary.result.message;
   model::Model& m = *r.c.model;
   const int soft = static_cast<int>(m.model_changes());
-  ASSERT_GE(soft, 2);  // the coarse run's end has soft points (6 measured)
+  ASSERT_GE(soft, 2);  // the coarse run ends with 2 soft points
   const Eigen::VectorXd q = r.summary.q;
   const double t = r.summary.result.t_reached;
   m.evaluate(q, t, true);
