@@ -291,6 +291,7 @@ class NewtonIteration {
     if (!(begin >= kGathered * sys_.residual().norm())) return false;
     Eigen::VectorXd total = Eigen::VectorXd::Zero(q_.size()), dq;
     double last = begin;
+    Eigen::Index entries = 0;  // K_SS's, for the log
     int updates = 0;
     for (; updates < opt_.local_newton; ++updates) {
       sys_.evaluate_tangent_on(q_, t_, rows, &apart_);  // the set's rows of the residual are whole after it
@@ -304,6 +305,7 @@ class NewtonIteration {
       last = now;
       if (updates > 0 && now <= kEnough * begin) break;
       const Eigen::SparseMatrix<double> kss = local_matrix(sys_.tangent(), rows, apart_);
+      entries = kss.nonZeros();
       if (!local_factor_.update(sys_.residual(), kss, apart_, sys_.symmetric(), rows, sys_.pattern_version(), dq))
         break;
       q_ += dq;
@@ -311,8 +313,9 @@ class NewtonIteration {
     }
     local_factor_.release();  // the global factorisation after it needs the memory
     if (opt_.verbose)
-      std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows: %d updates, |r| there %.3e -> %.3e"
-                   " (%.3f s)\n", t_, it, rows.size(), updates, begin, last,
+      std::fprintf(stderr, "  newton t=%.6g it=%d local solve on %zu rows, %ld entries and %d rank-one terms: %d updates,"
+                   " |r| there %.3e -> %.3e (%.3f s)\n", t_, it, rows.size(), static_cast<long>(entries), apart_.size(),
+                   updates, begin, last,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     if (updates == 0) {
       sys_.evaluate(q_, t_, true);  // the partial evaluation replaced the iterate's tangent
