@@ -63,9 +63,7 @@ bool local_update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& k
 /// kept), the tangent's pattern (`pattern_version`, NonlinearSystem::pattern_version) and the symmetry stay
 /// the same.
 /// K_SS's ordering and symbolic factorisation are then made once per local solve instead of once per
-/// update (where the rows take in soft-minimum windows, whose dense blocks make K_SS's analysis cost about
-/// three fifths of its numeric factorisation), and the numeric factorisation writes into the factor it
-/// replaces.
+/// update, and the numeric factorisation writes into the factor it replaces.
 class LocalFactorization {
  public:
   bool update(const Eigen::VectorXd& r, const Eigen::SparseMatrix<double>& kss, const RankOneTerms& apart,
