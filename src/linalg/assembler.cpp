@@ -231,6 +231,15 @@ Eigen::SparseVector<double> SparseAssembler::reduce(int element, std::span<const
   return column.col(0);
 }
 
+std::span<const int> SparseAssembler::reduced_unknowns(int element) const {
+  if (element < 0 || element >= num_elements())
+    throw std::out_of_range("SparseAssembler::reduced_unknowns: element " + std::to_string(element) + " out of range");
+  const bool fixed = element < fixed_.size();
+  const ElementTable& t = fixed ? fixed_ : variable_;
+  const auto e = static_cast<size_t>(fixed ? element : element - fixed_.size());
+  return {t.reduced.data() + t.reduced_begin[e], static_cast<size_t>(t.reduced_count(static_cast<int>(e)))};
+}
+
 void SparseAssembler::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local) {
   if (static_cast<Eigen::Index>(dofs.size()) != r_local.size())
     throw std::invalid_argument("SparseAssembler::add_vector: size mismatch");

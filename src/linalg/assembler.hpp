@@ -65,6 +65,8 @@ class SparseAssembler {
   // T^T v for a vector v on a sub-block of an element's DOFs (as add()'s `local`): the reduced vector a
   // term c v v^T held apart from the matrix contributes as c (T^T v)(T^T v)^T (RankOneTerms).
   Eigen::SparseVector<double> reduce(int element, std::span<const int> local, const Eigen::VectorXd& v) const;
+  // The reduced unknowns an element's DOFs reach, sorted: the rows and columns of its block in the matrix.
+  std::span<const int> reduced_unknowns(int element) const;
   // Residual-only contributions at arbitrary DOFs (point loads etc.), thread-safe.
   void add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local);
   // Explicit d r / d t at arbitrary DOFs (loads scaled by functions of t), thread-safe; ignored unless

@@ -14,12 +14,16 @@ namespace fibrane::solve {
 
 class LinearSolver;
 
-/// The terms c_k u_k u_k^T, each u_k a sparse vector over the matrix's rows (the reduced unknowns).
+/// The terms c_k u_k u_k^T, each u_k a sparse vector over the matrix's rows (the reduced unknowns), and the
+/// rows of the elements they were held apart from (`fill_rows`, in any order, repeats allowed): where a
+/// row and a column both lie among those, an exact zero of the assembled part is the terms' fill or an
+/// unused entry of their elements' blocks, which a factorisation of the assembled part may leave out.
 struct RankOneTerms {
   std::vector<double> coefficient;
   std::vector<Eigen::SparseVector<double>> vector;
+  std::vector<int> fill_rows;
 
-  void clear() { coefficient.clear(), vector.clear(); }
+  void clear() { coefficient.clear(), vector.clear(), fill_rows.clear(); }
   bool empty() const { return coefficient.empty(); }
   int size() const { return static_cast<int>(coefficient.size()); }
   void add(double c, Eigen::SparseVector<double> u) {

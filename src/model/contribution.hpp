@@ -81,7 +81,8 @@ class ElementSink {
   void hold_rank_one_apart(solve::RankOneTerms* terms) { rank_one_apart_ = terms; }
   bool holds_rank_one_apart() const { return rank_one_apart_ != nullptr && with_tangent_; }
   // The term c v v^T of element `element`, v on its local DOFs local[0], local[1], ...: recorded reduced
-  // (SparseAssembler::reduce), in neither the matrix nor d r / d t. Not thread-safe.
+  // (SparseAssembler::reduce) with the element's rows (RankOneTerms::fill_rows), in neither the matrix nor
+  // d r / d t. Not thread-safe.
   void add_rank_one(int element, std::span<const int> local, double c, const Eigen::VectorXd& v);
   bool with_tangent() const { return with_tangent_; }
   // Whether d residual / d t is being assembled (arc-length continuation): contributions whose residual

@@ -76,6 +76,8 @@ void ElementSink::add_rank_one(int element, std::span<const int> local, double c
   if (!owns(element)) not_owned("rank-one term added");
   if (!rank_one_apart_) throw std::logic_error("ElementSink::add_rank_one: the sink holds no rank-one terms apart");
   rank_one_apart_->add(c, assembler_.reduce(first_ + element, local, v));
+  const std::span<const int> rows = assembler_.reduced_unknowns(first_ + element);
+  rank_one_apart_->fill_rows.insert(rank_one_apart_->fill_rows.end(), rows.begin(), rows.end());
 }
 
 void ElementSink::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r) {

@@ -111,7 +111,17 @@ bool fits(const Eigen::SparseMatrix<double>& kss, const std::vector<int>& rows) 
 Eigen::SparseMatrix<double> local_matrix(const Eigen::SparseMatrix<double>& tangent, const std::vector<int>& rows,
                                          const RankOneTerms& apart) {
   Eigen::SparseMatrix<double> kss = principal_submatrix(tangent, rows);
-  if (!apart.empty()) kss.prune([](Eigen::Index, Eigen::Index, double v) { return v != 0.0; });
+  if (apart.empty()) return kss;
+  // Exact zeros go only within the blocks of the terms' elements (RankOneTerms::fill_rows), so that elsewhere
+  // K_SS keeps the tangent's pattern, structurally symmetric.
+  std::vector<char> fill(rows.size(), 0);
+  for (const int r : apart.fill_rows) {
+    const auto at = std::lower_bound(rows.begin(), rows.end(), r);
+    if (at != rows.end() && *at == r) fill[static_cast<std::size_t>(at - rows.begin())] = 1;
+  }
+  kss.prune([&fill](Eigen::Index i, Eigen::Index j, double v) {
+    return v != 0.0 || !fill[static_cast<std::size_t>(i)] || !fill[static_cast<std::size_t>(j)];
+  });
   return kss;
 }
 

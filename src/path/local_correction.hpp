@@ -45,7 +45,8 @@ Eigen::SparseMatrix<double> principal_submatrix(const Eigen::SparseMatrix<double
 
 /// The matrix a local update factorises: the principal submatrix on the rows S of a tangent assembled with
 /// the rank-one terms `apart` held apart (NonlinearSystem::evaluate_tangent_on), without the exact zeros
-/// that the terms' fill leaves there. With no terms apart, principal_submatrix.
+/// that the terms' fill leaves there (entries whose row and column both lie among RankOneTerms::fill_rows;
+/// exact zeros elsewhere stay). With no terms apart, principal_submatrix.
 Eigen::SparseMatrix<double> local_matrix(const Eigen::SparseMatrix<double>& tangent, const std::vector<int>& rows,
                                          const RankOneTerms& apart);
 

@@ -168,43 +168,64 @@ TEST(LocalUpdate, ASingularSubmatrixIsRefused) {
 }
 
 // Rank-one terms held apart (RankOneTerms, local_matrix): a local update with the assembled part's
-// submatrix and the terms is the one with the whole matrix's submatrix, for terms of either sign, a term
-// with no entry on the rows and one with coefficient zero (both left out of the correction), and a
-// pattern whose exact zeros local_matrix drops.
+// submatrix and the terms is the one with the whole matrix's submatrix, for a symmetric and an unsymmetric
+// matrix, rows that are not the first ones (every third left out), terms of either sign, a term that
+// straddles the rows' end, one with no entry on the rows and one with coefficient zero (both left out of
+// the correction); local_matrix drops the exact zeros among the terms' fill rows and keeps one elsewhere,
+// and LocalFactorization gives the same update as local_update with the terms.
 TEST(LocalUpdate, RankOneTermsHeldApartGiveTheWholeMatrixsUpdate) {
   const int n = 900;
-  Eigen::SparseMatrix<double> a = grid_matrix(30, 0.1, 0.0, 0.2, 3);
-  RankOneTerms terms;
-  const auto term = [&](double c, int first, int count) {
-    Eigen::SparseVector<double> u(n);
-    for (int i = first; i < first + count; ++i) u.insert(i) = std::sin(1.0 + i);
-    terms.add(c, u);
-  };
-  term(-3.0, 100, 60);  // on the steric side: A + U C U^T less stiff than A
-  term(0.7, 130, 300);
-  term(5.0, 800, 50);   // no row of S
-  term(0.0, 120, 30);
-  std::vector<int> rows;
-  for (int i = 0; i < 600; ++i) rows.push_back(i);
-  // The assembled part with explicit zeros where only the terms' fill would be.
-  Eigen::SparseMatrix<double> with_zeros = a + 0.0 * terms.assembled(n);
-  ASSERT_GT(with_zeros.nonZeros(), a.nonZeros());
-  const Eigen::SparseMatrix<double> kss = local_matrix(with_zeros, rows, terms);
-  EXPECT_EQ(kss.nonZeros(), principal_submatrix(a, rows).nonZeros());
-  Eigen::MatrixXd u;
-  Eigen::VectorXd c;
-  terms.on_rows(rows, u, c);
-  EXPECT_EQ(u.cols(), 2);
-  const Eigen::SparseMatrix<double> whole = a + terms.assembled(n);
-  const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
-  Eigen::VectorXd apart, direct;
-  ASSERT_TRUE(local_update(r, kss, terms, true, rows, apart));
-  ASSERT_TRUE(local_update(r, principal_submatrix(whole, rows), {}, true, rows, direct));
-  EXPECT_LT((apart - direct).norm(), 1e-12 * direct.norm());
-  // The terms matter: without them the update is another.
-  Eigen::VectorXd without;
-  ASSERT_TRUE(local_update(r, kss, {}, true, rows, without));
-  EXPECT_GT((without - direct).norm(), 1e-3 * direct.norm());
+  for (const double convection : {0.0, 0.4}) {
+    SCOPED_TRACE(convection);
+    const bool symmetric = convection == 0.0;
+    Eigen::SparseMatrix<double> a = grid_matrix(30, 0.1, convection, 0.2, 3);
+    RankOneTerms terms;
+    const auto term = [&](double c, int first, int count) {
+      Eigen::SparseVector<double> u(n);
+      for (int i = first; i < first + count; ++i) {
+        u.insert(i) = std::sin(1.0 + i);
+        terms.fill_rows.push_back(i);
+      }
+      terms.add(c, u);
+    };
+    term(-3.0, 100, 60);  // K = A + U C U^T indefinite
+    term(0.7, 130, 300);
+    term(2.0, 580, 60);   // straddles the rows' end at 600
+    term(5.0, 800, 50);   // no row of S
+    term(0.0, 120, 30);
+    std::vector<int> rows;
+    for (int i = 0; i < 600; ++i)
+      if (i % 3 != 1) rows.push_back(i);
+    // The assembled part with explicit zeros where only the terms' fill would be, and one exact zero away
+    // from the fill rows (the diagonal entry of row 3), which stays.
+    a.coeffRef(3, 3) = 0.0;
+    Eigen::SparseMatrix<double> with_zeros = a + 0.0 * terms.assembled(n);
+    ASSERT_GT(with_zeros.nonZeros(), a.nonZeros());
+    const Eigen::SparseMatrix<double> kss = local_matrix(with_zeros, rows, terms);
+    EXPECT_EQ(kss.nonZeros(), principal_submatrix(a, rows).nonZeros());
+    a.coeffRef(3, 3) = 4.1;
+    const Eigen::SparseMatrix<double> kss_a = local_matrix(a + 0.0 * terms.assembled(n), rows, terms);
+    Eigen::MatrixXd u;
+    Eigen::VectorXd c;
+    terms.on_rows(rows, u, c);
+    EXPECT_EQ(u.cols(), 3);
+    const Eigen::SparseMatrix<double> whole = a + terms.assembled(n);
+    const Eigen::VectorXd r = Eigen::VectorXd::LinSpaced(n, -1.0, 2.0);
+    Eigen::VectorXd apart, direct, kept;
+    ASSERT_TRUE(local_update(r, kss_a, terms, symmetric, rows, apart));
+    ASSERT_TRUE(local_update(r, principal_submatrix(whole, rows), {}, symmetric, rows, direct));
+    EXPECT_LT((apart - direct).norm(), 1e-12 * direct.norm());
+    LocalFactorization factor;
+    for (int k = 0; k < 2; ++k) {
+      ASSERT_TRUE(factor.update(r, kss_a, terms, symmetric, rows, 1, kept));
+      EXPECT_EQ(kept, apart);
+    }
+    EXPECT_EQ(factor.analyses(), 1);
+    // The terms matter: without them the update is another.
+    Eigen::VectorXd without;
+    ASSERT_TRUE(local_update(r, kss_a, {}, symmetric, rows, without));
+    EXPECT_GT((without - direct).norm(), 1e-3 * direct.norm());
+  }
 }
 
 // A sequence of updates as a local solve makes them: the same bits as local_update's, one analysis while
