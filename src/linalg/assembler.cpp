@@ -148,14 +148,18 @@ void SparseAssembler::scatter(const ElementTable& t, int e, int n, Local local, 
   }
 }
 
+std::pair<const SparseAssembler::ElementTable&, int> SparseAssembler::table_of(int element, const char* caller) const {
+  if (element < 0 || element >= num_elements())
+    throw std::out_of_range(std::string("SparseAssembler::") + caller + ": element " + std::to_string(element) +
+                            " out of range");
+  if (element < fixed_.size()) return {fixed_, element};
+  return {variable_, element - fixed_.size()};
+}
+
 template <class Local>
 void SparseAssembler::add_block(int element, int n, Local local, const Eigen::VectorXd& r_local,
                                 const Eigen::MatrixXd* k_local) {
-  if (element < 0 || element >= num_elements())
-    throw std::out_of_range("SparseAssembler::add: element " + std::to_string(element) + " out of range");
-  const bool fixed = element < fixed_.size();
-  const ElementTable& t = fixed ? fixed_ : variable_;
-  const int e = fixed ? element : element - fixed_.size();
+  const auto [t, e] = table_of(element, "add");
   const int size = t.dof_begin[static_cast<size_t>(e) + 1] - t.dof_begin[static_cast<size_t>(e)];
   if (r_local.size() != n || (k_local && (k_local->rows() != n || k_local->cols() != n)))
     throw std::invalid_argument("SparseAssembler::add: element " + std::to_string(element) +
@@ -187,9 +191,8 @@ void SparseAssembler::add_block(int element, int n, Local local, const Eigen::Ve
 
 void SparseAssembler::add(int element, const Eigen::VectorXd& r_local, const Eigen::MatrixXd* k_local) {
   if (element >= 0 && element < num_elements()) {
-    const bool fixed = element < fixed_.size();
-    const ElementTable& t = fixed ? fixed_ : variable_;
-    const size_t e = static_cast<size_t>(fixed ? element : element - fixed_.size());
+    const auto [t, index] = table_of(element, "add");
+    const auto e = static_cast<size_t>(index);
     if (r_local.size() != t.dof_begin[e + 1] - t.dof_begin[e])
       throw std::invalid_argument("SparseAssembler::add: element " + std::to_string(element) +
                                   " contribution has the wrong size");
@@ -208,13 +211,10 @@ void SparseAssembler::add(int element, std::span<const int> local, const Eigen::
 
 Eigen::SparseVector<double> SparseAssembler::reduce(int element, std::span<const int> local,
                                                     const Eigen::VectorXd& v) const {
-  if (element < 0 || element >= num_elements())
-    throw std::out_of_range("SparseAssembler::reduce: element " + std::to_string(element) + " out of range");
+  const auto [t, index] = table_of(element, "reduce");
   if (static_cast<Eigen::Index>(local.size()) != v.size())
     throw std::invalid_argument("SparseAssembler::reduce: size mismatch");
-  const bool fixed = element < fixed_.size();
-  const ElementTable& t = fixed ? fixed_ : variable_;
-  const auto e = static_cast<size_t>(fixed ? element : element - fixed_.size());
+  const auto e = static_cast<size_t>(index);
   const int first = t.dof_begin[e], size = t.dof_begin[e + 1] - first;
   const int* reduced = t.reduced.data() + t.reduced_begin[e];
   std::vector<Eigen::Triplet<double>> entries;
@@ -232,12 +232,8 @@ Eigen::SparseVector<double> SparseAssembler::reduce(int element, std::span<const
 }
 
 std::span<const int> SparseAssembler::reduced_unknowns(int element) const {
-  if (element < 0 || element >= num_elements())
-    throw std::out_of_range("SparseAssembler::reduced_unknowns: element " + std::to_string(element) + " out of range");
-  const bool fixed = element < fixed_.size();
-  const ElementTable& t = fixed ? fixed_ : variable_;
-  const auto e = static_cast<size_t>(fixed ? element : element - fixed_.size());
-  return {t.reduced.data() + t.reduced_begin[e], static_cast<size_t>(t.reduced_count(static_cast<int>(e)))};
+  const auto [t, e] = table_of(element, "reduced_unknowns");
+  return {t.reduced.data() + t.reduced_begin[static_cast<size_t>(e)], static_cast<size_t>(t.reduced_count(e))};
 }
 
 void SparseAssembler::add_vector(std::span<const int> dofs, const Eigen::VectorXd& r_local) {

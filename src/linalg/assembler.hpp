@@ -24,6 +24,7 @@
 // Callers inside nested parallel regions, where thread numbers are not unique, add atomically into a
 // shared overflow buffer.
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -127,6 +128,9 @@ class SparseAssembler {
     std::vector<int> outer, inner;
   };
   static ElementTable make_table(const ConstraintSet& c, const std::vector<std::vector<int>>& element_dofs, int first_id);
+  // The table that holds element `element` and its index there; std::out_of_range naming `caller` where
+  // there is no such element.
+  std::pair<const ElementTable&, int> table_of(int element, const char* caller) const;
   // The union of `base` and the elements' blocks; base_position[k] = where base entry k went.
   static Pattern merge(int n, const Pattern& base, const ElementTable& t, std::vector<int>& base_position);
   static void locate(ElementTable& t, const Pattern& p);  // fills t.offset
