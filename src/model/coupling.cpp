@@ -1,6 +1,7 @@
 #include "model/coupling.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -30,6 +31,11 @@ constexpr double kBranchMargin = 1e-3;
 // 1/kJumpRatio of that has jumped to another branch (sliding moves it by < 1e-2 d per Newton iteration in
 // the examples, with the beam point; in a diverging attempt both move far).
 constexpr double kJump = 0.1, kJumpRatio = 10;
+
+// A pattern block reaches this many elements further toward where its point's closest point is moving, once
+// it has moved by this share of its element since the last converged step (Coupling::collect_pairs).
+constexpr int kDriftPadding = 1;
+constexpr double kDriftShare = 1e-3;
 
 std::vector<Eigen::Vector3d> current_points(const ShellBody& s, const Eigen::VectorXd& u, const solve::DofMap& dofs) {
   std::vector<Eigen::Vector3d> x = s.surface.control_points();
@@ -114,11 +120,24 @@ bool Coupling::update(const State& state) {
   return collect_pairs();
 }
 
+int Coupling::drift_side(int i, int axis, int element) const {
+  if (!warm_[static_cast<std::size_t>(i)]) return 0;
+  const spline::KnotVector& knots = shell_.surface.knots(axis);
+  const int span = knots.element_spans()[static_cast<std::size_t>(element)];
+  const double width = knots.knots()[static_cast<std::size_t>(span) + 1] - knots.knots()[static_cast<std::size_t>(span)];
+  const double at = axis == 0 ? projection_[static_cast<std::size_t>(i)].u : projection_[static_cast<std::size_t>(i)].v;
+  const double moved = at - (*warm_[static_cast<std::size_t>(i)])[axis];
+  return moved > kDriftShare * width ? 1 : moved < -kDriftShare * width ? -1 : 0;
+}
+
 bool Coupling::collect_pairs() {
   // The sparsity pattern holds, for each beam element, the shell elements around the ones its points
   // project onto (a 3 x 3 block), so that points sliding across a shell element edge (a beam lying on an
   // element boundary does that at every iteration) do not force a new pattern and a new symbolic
-  // factorisation. The pattern is rebuilt only when a point reaches a shell element outside it.
+  // factorisation. The pattern is rebuilt only when a point reaches a shell element outside it; the
+  // block then reaches kDriftPadding elements further on each side toward which the point's closest
+  // point has moved since the last converged step (by more than kDriftShare of its element), where a
+  // fiber drifting over the shell will go next.
   const int n = static_cast<int>(quad_.size());
   const int n_u = shell_.surface.knots(0).num_elements(), n_v = shell_.surface.knots(1).num_elements();
   bool changed = soft_changed_;
@@ -126,19 +145,23 @@ bool Coupling::collect_pairs() {
   auto paired = [&](int i) {  // evaluated with its closest point (not soft)
     return soft_of_[i] < 0 && projection_[i].where == interaction::ShellProximity::Projection::Where::interior;
   };
-  std::vector<std::pair<int, int>> found;
+  std::vector<int> found;  // the paired points
   for (int i = 0; i < n; ++i)
     if (paired(i)) {
+      found.push_back(i);
       const auto key = std::make_pair(quad_[i].element, projection_[i].element);
-      found.push_back(key);
       if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
     }
   if (changed) {
     pairs_.clear();
-    for (const auto& [eb, es] : found) {
+    for (const int i : found) {
+      const int eb = quad_[i].element, es = projection_[i].element;
       const int iu = es % n_u, iv = es / n_u;
-      for (int dv = -1; dv <= 1; ++dv)
-        for (int du = -1; du <= 1; ++du)
+      const std::array<int, 2> drift{drift_side(i, 0, iu), drift_side(i, 1, iv)};
+      auto low = [&](int axis) { return -1 - (drift[axis] < 0 ? kDriftPadding : 0); };
+      auto high = [&](int axis) { return 1 + (drift[axis] > 0 ? kDriftPadding : 0); };
+      for (int dv = low(1); dv <= high(1); ++dv)
+        for (int du = low(0); du <= high(0); ++du)
           if (iu + du >= 0 && iu + du < n_u && iv + dv >= 0 && iv + dv < n_v)
             pairs_.emplace_back(eb, (iv + dv) * n_u + iu + du);
     }

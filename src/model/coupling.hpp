@@ -90,6 +90,8 @@ class Coupling final : public Interaction {
   void enable_soft_minimum(double width, double below, double below_on_failure);
   int soft_points() const { return static_cast<int>(soft_.size()); }
 
+  // The (beam element, shell element) pairs of the sparsity pattern, sorted (collect_pairs in coupling.cpp).
+  const std::vector<std::pair<int, int>>& pattern_pairs() const { return pairs_; }
   const std::vector<CouplingPoint>& points() const { return points_; }
   // Beam quadrature points of the last evaluation whose closest point is outside the patch or whose
   // projection failed (CouplingPoint::Status): they carry no interaction.
@@ -157,7 +159,10 @@ class Coupling final : public Interaction {
   bool update_soft_windows();  // switches and re-centres the requested points; false: none requested
   interaction::SoftWindow soft_window(const Eigen::Vector2d& centre) const;  // the window around `centre`
   void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
-  bool collect_pairs();  // true if a pair outside the pattern appeared
+  bool collect_pairs();
+  // -1, 0 or 1: the side of axis `axis` (0: u, 1: v) toward which point i's closest point (in shell element
+  // `element`'s column or row along that axis) has moved since the last converged step (collect_pairs).
+  int drift_side(int i, int axis, int element) const;  // true if a pair outside the pattern appeared
   double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);
   double evaluate_soft_points(const State& s, ElementSink& sink, bool& bad);
   // Distributed: sums the points' output data and `energy` over the processes (collective).

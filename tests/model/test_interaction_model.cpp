@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <random>
+#include <set>
 
 #include "case_runner.hpp"
 #include "model/coupling.hpp"
@@ -111,6 +112,75 @@ TEST(InteractionModel, SymmetryShareHalvesTheBeamsContributions) {
   EXPECT_NEAR(i_half, 0.5 * i_full, 1e-12 * std::abs(i_full));
   // The plate is fully fixed, so every free unknown is a beam DOF: the whole residual halves.
   EXPECT_LT((r_half - 0.5 * r_full).norm(), 1e-12 * r_full.norm());
+}
+
+}  // namespace
+}  // namespace fibrane::testing
+
+namespace fibrane::testing {
+namespace {
+
+// A fiber at height 1.02 d_eq over a clamped plate of 6 x 8 elements, each 1 x 0.5, lying along x at
+// y = y0, free to move in y. Element rows (v) are 0.5 apart in y: row k holds -2 + 0.5 k <= y < -1.5 + 0.5 k.
+std::string drifting_case(double y0) {
+  const std::string y = fmt::format("{:.17g}", y0);
+  const std::string z = fmt::format("{:.17g}", the_law().equilibrium_distance() * 1.02);
+  return R"(
+shells:
+  - name: plate
+    geometry: {rectangle: {origin: [-3, -2, 0], edge_u: [6, 0, 0], edge_v: [0, 4, 0]}}
+    refine: {degree: 2, continuity: 1, elements: [6, 8]}
+    thickness: 0.5
+    material: {young: 1000, poisson: 0.3}
+beams:
+  - name: fiber
+    geometry: {line: {from: [-2, )" + y + ", " + z + R"(], to: [2, )" + y + ", " + z + R"(]}}
+    refine: {degree: 3, continuity: 2, elements: 4}
+    material: {young: 1000, poisson: 0.3}
+    section: {circle: {radius: 0.5}}
+interactions:
+  - {beam: fiber, shell: plate, formulation: RF2, lennard_jones: {epsilon: 0.002, sigma: 0.05}}
+constraints:
+  - {body: plate, at: {all: true}, fix: [x, y, z]}
+  - {body: fiber, at: {all: true}, fix: [x, z, twist]}
+steps: {dt: 1, t_end: 1}
+output: {vtk: false}
+)";
+}
+
+// The element rows (v) of the shell elements in the coupling's pattern.
+std::set<int> pattern_rows(const model::Coupling& coupling, int elements_u) {
+  std::set<int> rows;
+  for (const auto& [beam_element, shell_element] : coupling.pattern_pairs()) rows.insert(shell_element / elements_u);
+  return rows;
+}
+
+// The pattern holds a 3 x 3 block of shell elements around each beam point's closest one. When a point
+// leaves its block, the new block reaches one element row further on the side toward which the closest
+// points have moved since the last converged state (the next rows a drifting fiber reaches), and not on
+// the other side. Without a converged state before (the first evaluation), the blocks are 3 x 3.
+TEST(InteractionModel, PatternBlocksReachFurtherTowardTheDrift) {
+  struct Drift { double y0, dy; std::set<int> before, after; };
+  for (const Drift& d : {Drift{0.7, -1.0, {4, 5, 6}, {1, 2, 3, 4}}, Drift{-0.7, 1.0, {1, 2, 3}, {3, 4, 5, 6}}}) {
+    const auto dir = fresh_directory(fmt::format("pattern-drift-{}", d.dy));
+    std::ofstream(dir / "case.yaml") << drifting_case(d.y0);
+    auto c = casefile::read_case((dir / "case.yaml").string());
+    model::Model& m = *c.model;
+    const model::Coupling& coupling = *m.interactions_of<model::Coupling>()[0];
+    Eigen::VectorXd q = m.initial_unknowns();
+    m.evaluate(q, 0.0, false);
+    EXPECT_EQ(pattern_rows(coupling, 6), d.before) << d.dy;
+    m.accept(q, 0.0);
+    const int beam = coupling.beam().block;
+    for (int k = 0; k < m.dofs.block_size(beam); ++k) {
+      const int dof = m.dofs.block_offset(beam) + k;
+      if (k % 4 == 1 && m.constraints.free_index(dof) >= 0) q[m.constraints.free_index(dof)] += d.dy;
+    }
+    const int version = m.pattern_version();
+    m.evaluate(q, 1.0, false);
+    EXPECT_GT(m.pattern_version(), version) << d.dy;
+    EXPECT_EQ(pattern_rows(coupling, 6), d.after) << d.dy;
+  }
 }
 
 }  // namespace
