@@ -14,19 +14,28 @@
 namespace fibrane::testing {
 namespace {
 
-// Beam of length 4 at height z above a clamped plate of thickness 0.5; LJ with sigma = 0.05.
-std::string parallel_case(double z_value, const std::string& formulation, int beam_elements = 8) {
-  const std::string z = fmt::format("{:.17g}", z_value);
+// Beam of length 4 along x at height z above a clamped plate of thickness 0.5 over [-3, 3] x [-2, 2], at
+// y = `y` (0 unless given); LJ with sigma = 0.05. The plate has 6 x `plate_rows` elements; the fiber is held
+// by `fiber_constraints` (the default: in the plane y = 0, its start fixed in x).
+struct ParallelOptions {
+  double y = 0;
+  int plate_rows = 4;
+  std::string fiber_constraints = "  - {body: fiber, at: {all: true}, fix: [y, twist]}\n"
+                                  "  - {body: fiber, at: {end: start}, fix: [x]}\n";
+};
+std::string parallel_case(double z_value, const std::string& formulation, int beam_elements = 8,
+                          const ParallelOptions& o = {}) {
+  const std::string z = fmt::format("{:.17g}", z_value), y = fmt::format("{:.17g}", o.y);
   return R"(
 shells:
   - name: plate
     geometry: {rectangle: {origin: [-3, -2, 0], edge_u: [6, 0, 0], edge_v: [0, 4, 0]}}
-    refine: {degree: 2, continuity: 1, elements: [6, 4]}
+    refine: {degree: 2, continuity: 1, elements: [6, )" + std::to_string(o.plate_rows) + R"(]}
     thickness: 0.5
     material: {young: 1000, poisson: 0.3}
 beams:
   - name: fiber
-    geometry: {line: {from: [-2, 0, )" + z + R"(], to: [2, 0, )" + z + R"(]}}
+    geometry: {line: {from: [-2, )" + y + ", " + z + R"(], to: [2, )" + y + ", " + z + R"(]}}
     refine: {degree: 3, continuity: 2, elements: )" + std::to_string(beam_elements) + R"(}
     material: {young: 1000, poisson: 0.3}
     section: {circle: {radius: 0.5}}
@@ -34,9 +43,7 @@ interactions:
   - {beam: fiber, shell: plate, formulation: )" + formulation + R"(, lennard_jones: {epsilon: 0.002, sigma: 0.05}}
 constraints:
   - {body: plate, at: {all: true}, fix: [x, y, z]}
-  - {body: fiber, at: {all: true}, fix: [y, twist]}
-  - {body: fiber, at: {end: start}, fix: [x]}
-steps: {dt: 1, t_end: 1, tolerance: 1e-10, tolerance_absolute: 1e-11}
+)" + o.fiber_constraints + R"(steps: {dt: 1, t_end: 1, tolerance: 1e-10, tolerance_absolute: 1e-11}
 output: {vtk: false}
 )";
 }
@@ -120,32 +127,12 @@ TEST(InteractionModel, SymmetryShareHalvesTheBeamsContributions) {
 namespace fibrane::testing {
 namespace {
 
-// A fiber at height 1.02 d_eq over a clamped plate of 6 x 8 elements, each 1 x 0.5, lying along x at
-// y = y0, free to move in y. Element rows (v) are 0.5 apart in y: row k holds -2 + 0.5 k <= y < -1.5 + 0.5 k.
+// A fiber at height 1.02 d_eq over the plate of parallel_case with 6 x 8 elements, each 1 x 0.5, at y = y0
+// and free to move in y. Element rows (v) are 0.5 apart in y: row k holds -2 + 0.5 k <= y < -1.5 + 0.5 k.
 std::string drifting_case(double y0) {
-  const std::string y = fmt::format("{:.17g}", y0);
-  const std::string z = fmt::format("{:.17g}", the_law().equilibrium_distance() * 1.02);
-  return R"(
-shells:
-  - name: plate
-    geometry: {rectangle: {origin: [-3, -2, 0], edge_u: [6, 0, 0], edge_v: [0, 4, 0]}}
-    refine: {degree: 2, continuity: 1, elements: [6, 8]}
-    thickness: 0.5
-    material: {young: 1000, poisson: 0.3}
-beams:
-  - name: fiber
-    geometry: {line: {from: [-2, )" + y + ", " + z + R"(], to: [2, )" + y + ", " + z + R"(]}}
-    refine: {degree: 3, continuity: 2, elements: 4}
-    material: {young: 1000, poisson: 0.3}
-    section: {circle: {radius: 0.5}}
-interactions:
-  - {beam: fiber, shell: plate, formulation: RF2, lennard_jones: {epsilon: 0.002, sigma: 0.05}}
-constraints:
-  - {body: plate, at: {all: true}, fix: [x, y, z]}
-  - {body: fiber, at: {all: true}, fix: [x, z, twist]}
-steps: {dt: 1, t_end: 1}
-output: {vtk: false}
-)";
+  return parallel_case(the_law().equilibrium_distance() * 1.02, "RF2", 4,
+                       {.y = y0, .plate_rows = 8,
+                        .fiber_constraints = "  - {body: fiber, at: {all: true}, fix: [x, z, twist]}\n"});
 }
 
 // The element rows (v) of the shell elements in the coupling's pattern.
