@@ -120,13 +120,10 @@ bool Coupling::update(const State& state) {
   return collect_pairs();
 }
 
-int Coupling::drift_side(int i, int axis, int element) const {
-  if (!warm_[static_cast<std::size_t>(i)]) return 0;
-  const spline::KnotVector& knots = shell_.surface.knots(axis);
-  const int span = knots.element_spans()[static_cast<std::size_t>(element)];
-  const double width = knots.knots()[static_cast<std::size_t>(span) + 1] - knots.knots()[static_cast<std::size_t>(span)];
-  const double at = axis == 0 ? projection_[static_cast<std::size_t>(i)].u : projection_[static_cast<std::size_t>(i)].v;
-  const double moved = at - (*warm_[static_cast<std::size_t>(i)])[axis];
+int Coupling::drift_side(int i, int axis, double width) const {
+  const auto k = static_cast<std::size_t>(i);
+  if (!warm_[k]) return 0;
+  const double moved = (axis == 0 ? projection_[k].u : projection_[k].v) - (*warm_[k])[axis];
   return moved > kDriftShare * width ? 1 : moved < -kDriftShare * width ? -1 : 0;
 }
 
@@ -153,11 +150,18 @@ bool Coupling::collect_pairs() {
       if (!std::binary_search(pairs_.begin(), pairs_.end(), key)) changed = true;
     }
   if (changed) {
+    auto element_widths = [&](int axis) {  // each element's parameter length along the axis
+      const spline::KnotVector& k = shell_.surface.knots(axis);
+      std::vector<double> w;
+      for (const int span : k.element_spans()) w.push_back(k.knots()[span + 1] - k.knots()[span]);
+      return w;
+    };
+    const std::array<std::vector<double>, 2> width{element_widths(0), element_widths(1)};
     pairs_.clear();
     for (const int i : found) {
       const int eb = quad_[i].element, es = projection_[i].element;
       const int iu = es % n_u, iv = es / n_u;
-      const std::array<int, 2> drift{drift_side(i, 0, iu), drift_side(i, 1, iv)};
+      const std::array<int, 2> drift{drift_side(i, 0, width[0][iu]), drift_side(i, 1, width[1][iv])};
       auto low = [&](int axis) { return -1 - (drift[axis] < 0 ? kDriftPadding : 0); };
       auto high = [&](int axis) { return 1 + (drift[axis] > 0 ? kDriftPadding : 0); };
       for (int dv = low(1); dv <= high(1); ++dv)
