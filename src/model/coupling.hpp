@@ -159,11 +159,11 @@ class Coupling final : public Interaction {
   bool update_soft_windows();  // switches and re-centres the requested points; false: none requested
   interaction::SoftWindow soft_window(const Eigen::Vector2d& centre) const;  // the window around `centre`
   void calibrate_soft_points(const Eigen::VectorXd& u, const solve::DofMap& dofs);
-  bool collect_pairs();
+  bool collect_pairs();  // true if a pair outside the pattern appeared
   // -1, 0 or 1: the side of axis `axis` (0: u, 1: v) toward which point i's closest point has moved since
   // the last converged step, by more than kDriftShare of `width`, its element's parameter length along the
   // axis (collect_pairs).
-  int drift_side(int i, int axis, double width) const;  // true if a pair outside the pattern appeared
+  int drift_side(int i, int axis, double width) const;
   double evaluate_pairs(const State& s, ElementSink& sink, bool& bad);
   double evaluate_soft_points(const State& s, ElementSink& sink, bool& bad);
   // Distributed: sums the points' output data and `energy` over the processes (collective).
