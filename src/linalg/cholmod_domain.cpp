@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "linalg/linear_solver.hpp"
+
 extern "C" void dsyrk_(const char* uplo, const char* trans, const int* n, const int* k, const double* alpha,
                        const double* a, const int* lda, const double* beta, double* c, const int* ldc);
 
@@ -123,7 +125,9 @@ bool CholmodDomain::factorise_llt(const Eigen::SparseMatrix<double>& a) {
     permuted.map_through(lower.source);
   }
   double beta[2] = {0, 0};
-  const int ok = cholmod_super_numeric(permuted.fill(a.valuePtr()), nullptr, beta, factor, &common);
+  cholmod_sparse* values = permuted.fill(a.valuePtr());
+  const SerialLibraryRegions serial;
+  const int ok = cholmod_super_numeric(values, nullptr, beta, factor, &common);
   permuted.drop_values();
   if (!ok || common.status != CHOLMOD_OK || factor->minor < factor->n) return false;
   // C: the columns from the interior's end on, in their supernodes (column-major blocks of nsrow rows).

@@ -191,4 +191,22 @@ class BlasThreadsForFactor {
   int restore_ = -1;
 };
 
+// For its lifetime, the OpenMP regions that libraries open on this thread run on this thread alone
+// (max-active-levels 0; the BLAS's own threads are not affected). CHOLMOD's supernodal numeric factorisation
+// opens regions of four threads for every supernode (clearing it, scattering the matrix and the
+// descendants' updates into it); with idle threads asleep (OMP_WAIT_POLICY=passive) each region wakes them
+// and waits for them, millions of times per large factorisation, for loops that memory bounds. Called
+// around a factorisation outside any parallel region; inside one, nested regions are serial already
+// (docs/performance.md, "CHOLMOD's own threads").
+class SerialLibraryRegions {
+ public:
+  SerialLibraryRegions();
+  ~SerialLibraryRegions();
+  SerialLibraryRegions(const SerialLibraryRegions&) = delete;
+  SerialLibraryRegions& operator=(const SerialLibraryRegions&) = delete;
+
+ private:
+  int levels_;
+};
+
 }  // namespace fibrane::solve

@@ -23,6 +23,7 @@ struct ReadableFactor : Factorization {
   // build (CholmodPermutedLower), with the state Eigen's factorize() leaves.
   void factorize_permuted(cholmod_sparse* s) {
     cholmod_factor* f = this->m_cholmodFactor;
+    const SerialLibraryRegions serial;
     const int ok = cholmod_super_numeric(s, nullptr, this->m_shiftOffset, f, &this->cholmod());
     this->m_info = ok && this->cholmod().status >= CHOLMOD_OK && f->minor == f->n ? Eigen::Success
                                                                                    : Eigen::NumericalIssue;
@@ -147,6 +148,7 @@ class CholmodSolver final : public LinearSolver {
         return;
       }
     }
+    const SerialLibraryRegions serial;
     fact_.factorize(a);
   }
 

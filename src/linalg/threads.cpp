@@ -88,6 +88,10 @@ void BlasThreadsForFactor::restore() {
   restore_ = -1;
 }
 
+SerialLibraryRegions::SerialLibraryRegions() : levels_(omp_get_max_active_levels()) { omp_set_max_active_levels(0); }
+
+SerialLibraryRegions::~SerialLibraryRegions() { omp_set_max_active_levels(levels_); }
+
 std::string blas_core_upgrade(const std::string& chosen, bool avx512, bool avx2_fma) {
   // OpenBLAS's x86-64 cores without AVX2 kernels (its names, compared without case)
   static const char* const kOld[] = {"prescott", "core2",   "penryn",    "dunnington", "nehalem",   "atom",

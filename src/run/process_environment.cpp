@@ -7,9 +7,10 @@
 // cores, and libgomp's default active waiting lets them spin between the many small regions, which costs
 // system time on an idle machine and whole factorisations' worth of time on a busy one (docs/performance.md,
 // "OpenBLAS threads: pthreads or OpenMP build"). OMP_THREAD_LIMIT (the cores, or --threads N) caps every
-// region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep instead of spinning. A
-// user's own setting of either variable is kept; likewise glibc's malloc tunables and OpenBLAS's waiting
-// and kernel below.
+// region of every library, and OMP_WAIT_POLICY=passive lets idle threads sleep instead of spinning
+// (fibrane's own calls of CHOLMOD's factorisation go further and keep its regions on the calling thread:
+// solve::SerialLibraryRegions). A user's own setting of either variable is kept; likewise glibc's malloc
+// tunables and OpenBLAS's waiting and kernel below.
 #include <unistd.h>
 
 #include <cstdlib>

@@ -1,5 +1,6 @@
-// set_thread_count: the thread pools of OpenMP and of OpenBLAS follow it. blas_core_upgrade: an OpenBLAS
-// that chose an older kernel than the processor runs is given a fitting one.
+// set_thread_count: the thread pools of OpenMP and of OpenBLAS follow it. SerialLibraryRegions keeps a
+// library's regions on the calling thread. blas_core_upgrade: an OpenBLAS that chose an older kernel than
+// the processor runs is given a fitting one.
 #include <dlfcn.h>
 #include <unistd.h>
 #include <gtest/gtest.h>
@@ -24,6 +25,35 @@ TEST(Threads, SetThreadCountBoundsOpenMpAndOpenBlas) {
   }
   set_thread_count(0);  // no change
   EXPECT_EQ(omp_get_max_threads(), 1);
+  set_thread_count(before);
+}
+
+// The threads of a region that asks for four (as CHOLMOD's regions do: num_threads(4)).
+int threads_of_a_four_thread_region() {
+  int n = 0;
+#pragma omp parallel num_threads(4)
+  {
+#pragma omp single
+    n = omp_get_num_threads();
+  }
+  return n;
+}
+
+// SerialLibraryRegions: a region that asks for its own thread count runs on the calling thread alone while
+// the guard lives, OpenMP's setting is back afterwards, and OpenBLAS's thread count is not touched.
+TEST(Threads, SerialLibraryRegionsRunRegionsOnTheCallingThreadAlone) {
+  const int before = omp_get_max_threads();
+  set_thread_count(2);
+  const int outside = threads_of_a_four_thread_region();
+  if (outside < 2) GTEST_SKIP() << "OpenMP gives this process one thread (OMP_THREAD_LIMIT)";
+  const int levels = omp_get_max_active_levels();
+  {
+    const SerialLibraryRegions serial;
+    EXPECT_EQ(threads_of_a_four_thread_region(), 1);
+    EXPECT_EQ(blas_thread_count(), 2);
+  }
+  EXPECT_EQ(omp_get_max_active_levels(), levels);
+  EXPECT_EQ(threads_of_a_four_thread_region(), outside);
   set_thread_count(before);
 }
 
