@@ -195,9 +195,9 @@ class BlasThreadsForFactor {
 // (max-active-levels 0; the BLAS's own threads are not affected). CHOLMOD's supernodal numeric factorisation
 // opens regions of four threads for every supernode (clearing it, scattering the matrix and the
 // descendants' updates into it); with idle threads asleep (OMP_WAIT_POLICY=passive) each region wakes them
-// and waits for them, millions of times per large factorisation, for loops that memory bounds. Called
-// around a factorisation outside any parallel region; inside one, nested regions are serial already
-// (docs/performance.md, "CHOLMOD's own threads").
+// and waits for them, hundreds of thousands of times in a large factorisation, for short loops bound by
+// memory. Called around a factorisation outside any parallel region; inside one, nested regions are serial
+// already (docs/performance.md, "CHOLMOD's own threads").
 class SerialLibraryRegions {
  public:
   SerialLibraryRegions();
