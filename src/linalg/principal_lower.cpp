@@ -5,12 +5,59 @@
 
 namespace fibrane::solve {
 
-// Two counting sorts (the entries by row, then by column in the order of their rows) leave every column's
-// rows sorted.
+namespace {
+
+// Rows in ascending order keep a's order within each column, so that column j = rows[c] of a, less its
+// entries above the diagonal and outside `rows`, is column c of the result: one pass, the columns side by
+// side on the process's threads. False where a column's entries in a are not sorted (out is then unfinished).
+bool ascending_principal_lower(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows,
+                               const std::vector<int>& local, PrincipalLower& out) {
+  const int n = static_cast<int>(rows.size());
+  const int* outer = a.outerIndexPtr();
+  const int* inner = a.innerIndexPtr();
+  out.column_start.assign(static_cast<std::size_t>(n) + 1, 0);
+  int unsorted = 0;
+#pragma omp parallel for schedule(static) reduction(+ : unsorted) if (n >= 10'000)
+  for (int c = 0; c < n; ++c) {
+    const int j = rows[static_cast<std::size_t>(c)];
+    int count = 0, last = -1;
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const int i = inner[p];
+      if (i < j || local[static_cast<std::size_t>(i)] < 0) continue;
+      unsorted += i <= last ? 1 : 0;
+      last = i;
+      ++count;
+    }
+    out.column_start[static_cast<std::size_t>(c) + 1] = count;
+  }
+  if (unsorted > 0) return false;
+  std::partial_sum(out.column_start.begin(), out.column_start.end(), out.column_start.begin());
+  out.row.resize(static_cast<std::size_t>(out.column_start.back()));
+  out.source.resize(out.row.size());
+#pragma omp parallel for schedule(static) if (n >= 10'000)
+  for (int c = 0; c < n; ++c) {
+    const int j = rows[static_cast<std::size_t>(c)];
+    auto q = static_cast<std::size_t>(out.column_start[static_cast<std::size_t>(c)]);
+    for (int p = outer[j]; p < outer[j + 1]; ++p) {
+      const int i = inner[p], li = local[static_cast<std::size_t>(i)];
+      if (i < j || li < 0) continue;
+      out.row[q] = li;
+      out.source[q++] = p;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// Rows in any order: two counting sorts (the entries by row, then by column in the order of their rows)
+// leave every column's rows sorted.
 PrincipalLower principal_lower(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows) {
   const int n = static_cast<int>(rows.size());
   std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
   for (int i = 0; i < n; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
+  PrincipalLower out;
+  if (std::is_sorted(rows.begin(), rows.end()) && ascending_principal_lower(a, rows, local, out)) return out;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   auto for_each_entry = [&](auto&& visit) {  // visit(local row, local column, index in a), row >= column
@@ -33,7 +80,6 @@ PrincipalLower principal_lower(const Eigen::SparseMatrix<double>& a, const std::
     row_column[k] = c;
     row_source[k] = p;
   });
-  PrincipalLower out;
   out.column_start.assign(static_cast<std::size_t>(n) + 1, 0);
   for (const int c : row_column) ++out.column_start[static_cast<std::size_t>(c) + 1];
   std::partial_sum(out.column_start.begin(), out.column_start.end(), out.column_start.begin());

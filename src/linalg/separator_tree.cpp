@@ -23,20 +23,33 @@ bool SeparatorTree::build(const Eigen::SparseMatrix<double>& a, const Options& o
   return true;
 }
 
+namespace {
+
+// METIS's node bisection of the graph of a(rows, rows) (cholmod_bisect): partition[k] 0 or 1 for the two
+// parts, 2 for the separator; the separator's size, or a negative number where CHOLMOD failed. The pieces
+// are bisected one after the other: Debian's METIS draws its random numbers from the C library's rand(),
+// one state for the process, so that two bisections side by side would each depend on the other's timing.
+long bisection(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows, std::vector<int>& partition) {
+  const PrincipalLower piece = principal_lower(a, rows);
+  cholmod_sparse view = cholmod_lower_view(piece.size(), piece.column_start.data(), piece.row.data(), nullptr);
+  cholmod_common common;
+  cholmod_start(&common);
+  common.print = 0;
+  const long s = cholmod_bisect(&view, nullptr, 0, 1, partition.data(), &common);
+  cholmod_finish(&common);
+  return s;
+}
+
+}  // namespace
+
 // The node for `rows`: a separator with two subtrees where the bisection serves and levels are left, a
 // domain otherwise. Nodes are appended in postorder.
 int SeparatorTree::bisect(const Eigen::SparseMatrix<double>& a, std::vector<int> rows, int levels,
                           const Options& options) {
   const auto n = static_cast<long>(rows.size());
   if (levels > 0 && n >= options.min_rows) {
-    const PrincipalLower piece = principal_lower(a, rows);
-    cholmod_sparse view = cholmod_lower_view(piece.size(), piece.column_start.data(), piece.row.data(), nullptr);
     std::vector<int> partition(rows.size(), 0);
-    cholmod_common common;
-    cholmod_start(&common);
-    common.print = 0;
-    const long s = cholmod_bisect(&view, nullptr, 0, 1, partition.data(), &common);
-    cholmod_finish(&common);
+    const long s = bisection(a, rows, partition);
     std::vector<int> parts[3];
     for (std::size_t i = 0; i < rows.size(); ++i) parts[partition[i]].push_back(rows[i]);
     const auto smaller = static_cast<long>(std::min(parts[0].size(), parts[1].size()));
