@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "linalg/cholmod_domain.hpp"
@@ -203,46 +204,34 @@ class CholmodSplitSolver final : public LinearSolver {
     return tree_.nodes()[static_cast<std::size_t>(domain_nodes_[static_cast<std::size_t>(d)])];
   }
 
-  // The tree (kept where it still divides a's graph) and the analyses of its domains; false where the split
-  // does not serve. A domain of `last` (the last analysis's, without numeric factors) with the same rows
-  // serves again, and keeps its analysis where its pattern is the same (CholmodDomain::analyse); the others
-  // are freed first.
+  // The tree (kept where it still divides a's graph, refined where one domain holds too much of the work)
+  // and the analyses of its domains; false where the split does not serve.
   bool split(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last) {
+    const SeparatorTree::Options tree_options{.levels = levels(), .min_rows = 1000, .max_separator = options_.max_separator};
     if (tree_.divides(a))
       tree_.update_boundaries(a);
-    else if (!tree_.build(a, {.levels = levels(), .min_rows = 1000, .max_separator = options_.max_separator}))
+    else if (!tree_.build(a, tree_options))
       return false;
-    const auto& nodes = tree_.nodes();
-    part_of_.assign(nodes.size(), -1);
-    domain_nodes_.clear();
-    front_nodes_.clear();
-    for (std::size_t t = 0; t < nodes.size(); ++t) {
-      std::vector<int>& list = nodes[t].domain() ? domain_nodes_ : front_nodes_;
-      part_of_[t] = static_cast<int>(list.size());
-      list.push_back(static_cast<int>(t));
+    if (!set_domains(a, last, {})) return false;
+    // With the depth from the threads, a domain with more than refine_above times an even share of the
+    // domains' work on the threads is bisected again, the heaviest first, at most as many times as there
+    // are threads.
+    for (int refined = 0; options_.levels == 0 && refined < threads_; ++refined) {
+      const auto heaviest = std::max_element(domains_.begin(), domains_.end(),
+                                             [](const auto& x, const auto& y) { return x->flops < y->flops; });
+      const double total = std::accumulate(domains_.begin(), domains_.end(), 0.0,
+                                           [](double sum, const auto& d) { return sum + d->flops; });
+      if ((*heaviest)->flops <= options_.refine_above * total / threads_) break;
+      const int node = domain_nodes_[static_cast<std::size_t>(heaviest - domains_.begin())];
+      if (!tree_.refine(a, node, tree_options)) break;
+      std::vector<std::unique_ptr<CholmodDomain>> analysed = std::move(domains_);
+      clear_parts();
+      if (!set_domains(a, analysed, node)) return false;
     }
-    // the top bisection leaves each side a fifth of the rows at least (SeparatorTree::Options)
-    for (std::size_t t = 0; t < domain_nodes_.size(); ++t) {
-      const SeparatorTree::Node& node = nodes[static_cast<std::size_t>(domain_nodes_[t])];
-      std::vector<int> rows = node.rows;
-      rows.insert(rows.end(), node.boundary.begin(), node.boundary.end());
-      const auto same = std::find_if(last.begin(), last.end(), [&](const auto& d) {
-        return d && d->interior == static_cast<int>(node.rows.size()) && d->rows == rows;
-      });
-      std::unique_ptr<CholmodDomain> d = same != last.end() ? std::move(*same) : std::make_unique<CholmodDomain>();
-      d->rows = std::move(rows);
-      d->interior = static_cast<int>(node.rows.size());
-      domains_.push_back(std::move(d));
-    }
-    last.clear();
-    domain_order_.resize(domains_.size());
-    std::iota(domain_order_.begin(), domain_order_.end(), 0);
-    if (!side_by_side(domain_order_, threads_, [&](int d) { return domains_[static_cast<std::size_t>(d)]->analyse(a); }))
-      return false;
-    for (const auto& d : domains_) kept_analyses_ += d->kept_analysis;
-    domain_analyses_ += static_cast<long>(domains_.size());
     std::vector<double> work;
     for (const auto& d : domains_) work.push_back(d->flops);
+    domain_order_.resize(domains_.size());
+    std::iota(domain_order_.begin(), domain_order_.end(), 0);
     std::stable_sort(domain_order_.begin(), domain_order_.end(),
                      [&](int x, int y) { return work[static_cast<std::size_t>(x)] > work[static_cast<std::size_t>(y)]; });
     set_fronts(a);
@@ -251,6 +240,40 @@ class CholmodSplitSolver final : public LinearSolver {
     // input"): the split pays until the schedule is nearly one thread's.
     const double total = std::accumulate(work.begin(), work.end(), 0.0);
     return makespan(work, threads_) <= options_.max_work_share * total;
+  }
+  // The tree's domains and fronts; a domain of `last` with the same rows serves again (the others are
+  // freed first). The domains are analysed side by side, those of `last` again unless `refined` holds the
+  // tree node whose bisection made the two new ones (a refinement: the others were analysed for `a`).
+  bool set_domains(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last, std::optional<int> refined) {
+    const auto& nodes = tree_.nodes();
+    part_of_.assign(nodes.size(), -1);
+    for (std::size_t t = 0; t < nodes.size(); ++t) {
+      std::vector<int>& list = nodes[t].domain() ? domain_nodes_ : front_nodes_;
+      part_of_[t] = static_cast<int>(list.size());
+      list.push_back(static_cast<int>(t));
+    }
+    // the top bisection leaves each side a fifth of the rows at least (SeparatorTree::Options)
+    std::vector<int> to_analyse;
+    for (std::size_t t = 0; t < domain_nodes_.size(); ++t) {
+      const SeparatorTree::Node& node = nodes[static_cast<std::size_t>(domain_nodes_[t])];
+      std::vector<int> rows = node.rows;
+      rows.insert(rows.end(), node.boundary.begin(), node.boundary.end());
+      const auto same = std::find_if(last.begin(), last.end(), [&](const auto& d) {
+        return d && d->interior == static_cast<int>(node.rows.size()) && d->rows == rows;
+      });
+      const bool again = same != last.end();
+      std::unique_ptr<CholmodDomain> d = again ? std::move(*same) : std::make_unique<CholmodDomain>();
+      d->rows = std::move(rows);
+      d->interior = static_cast<int>(node.rows.size());
+      domains_.push_back(std::move(d));
+      if (!again || !refined) to_analyse.push_back(static_cast<int>(t));
+    }
+    last.clear();
+    if (!side_by_side(to_analyse, threads_, [&](int d) { return domains_[static_cast<std::size_t>(d)]->analyse(a); }))
+      return false;
+    for (const int d : to_analyse) kept_analyses_ += domains_[static_cast<std::size_t>(d)]->kept_analysis;
+    domain_analyses_ += static_cast<long>(to_analyse.size());
+    return true;
   }
   // Each separator's front: K's entries with a row or column in it, its children's maps; the fronts grouped
   // by height.

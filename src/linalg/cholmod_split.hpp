@@ -31,7 +31,8 @@ namespace fibrane::solve {
 /// CHOLMOD's supernodal code factorises one supernode at a time, its parallelism only within the BLAS
 /// calls, where more cores add little; the domains side by side keep the cores busy (docs/performance.md,
 /// "The factorisation's input"). `levels` 0 takes the threads' count, rounded up to a power of two, as
-/// the domains' count. Matrices below `min_unknowns`, a single thread, or a split that does not serve (the
+/// the domains' count, and bisects a domain again where it holds far more than its share of the work
+/// (`refine_above`; SeparatorTree::refine). Matrices below `min_unknowns`, a single thread, or a split that does not serve (the
 /// top separator above `max_separator`, a part below a fifth of its piece, CHOLMOD's ordering not keeping a
 /// boundary last, the domains side by side on the threads taking more than `max_work_share` of their
 /// flops on one thread) are factorised whole by make_cholmod_llt's solver. The name is "cholmod" either
@@ -42,6 +43,12 @@ struct CholmodSplitOptions {
   long min_unknowns = 100'000;
   long max_separator = 5'000;
   double max_work_share = 0.75;
+  // With `levels` 0, a domain whose CHOLMOD analysis counts more than refine_above times an even share of
+  // the domains' flops on the threads (their sum over the threads' count) is bisected once more, the
+  // heaviest first, as long as one is (at most once per thread): where the work gathers (the soft windows'
+  // dense blocks), the domain holding it would otherwise set the time. At 2 threads no domain can hold
+  // twice an even share.
+  double refine_above = 2.0;
   int levels = 0;
   // The last domain still being factorised gets the BLAS threads of those that have finished. Off by
   // default: OpenBLAS's results depend on its thread count, and the point at which the count changes

@@ -42,39 +42,80 @@ long bisection(const Eigen::SparseMatrix<double>& a, const std::vector<int>& row
 
 }  // namespace
 
+// The three parts of METIS's bisection of `rows` (parts[2] the separator), where it serves: a piece of
+// `min_rows` at least, a separator of one row to `max_separator`, each part a fifth of the piece at least.
+bool SeparatorTree::bisects(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows, const Options& options,
+                            std::vector<int> (&parts)[3]) {
+  const auto n = static_cast<long>(rows.size());
+  if (n < options.min_rows) return false;
+  std::vector<int> partition(rows.size(), 0);
+  const long s = bisection(a, rows, partition);
+  if (s <= 0 || s > options.max_separator) return false;
+  for (std::vector<int>& part : parts) part.clear();
+  for (std::size_t i = 0; i < rows.size(); ++i) parts[partition[i]].push_back(rows[i]);
+  return 5 * static_cast<long>(std::min(parts[0].size(), parts[1].size())) >= n;
+}
+
 // The node for `rows`: a separator with two subtrees where the bisection serves and levels are left, a
 // domain otherwise. Nodes are appended in postorder.
 int SeparatorTree::bisect(const Eigen::SparseMatrix<double>& a, std::vector<int> rows, int levels,
                           const Options& options) {
-  const auto n = static_cast<long>(rows.size());
-  if (levels > 0 && n >= options.min_rows) {
-    std::vector<int> partition(rows.size(), 0);
-    const long s = bisection(a, rows, partition);
-    std::vector<int> parts[3];
-    for (std::size_t i = 0; i < rows.size(); ++i) parts[partition[i]].push_back(rows[i]);
-    const auto smaller = static_cast<long>(std::min(parts[0].size(), parts[1].size()));
-    if (s > 0 && s <= options.max_separator && 5 * smaller >= n) {
-      rows.clear();
-      rows.shrink_to_fit();
-      const int c0 = bisect(a, std::move(parts[0]), levels - 1, options);
-      const int c1 = bisect(a, std::move(parts[1]), levels - 1, options);
-      Node node;
-      node.rows = std::move(parts[2]);
-      node.children[0] = c0;
-      node.children[1] = c1;
-      node.first = nodes_[static_cast<std::size_t>(c0)].first;
-      node.height = 1 + std::max(nodes_[static_cast<std::size_t>(c0)].height, nodes_[static_cast<std::size_t>(c1)].height);
-      nodes_.push_back(std::move(node));
-      const int id = static_cast<int>(nodes_.size()) - 1;
-      nodes_[static_cast<std::size_t>(c0)].parent = nodes_[static_cast<std::size_t>(c1)].parent = id;
-      return id;
-    }
+  std::vector<int> parts[3];
+  if (levels > 0 && bisects(a, rows, options, parts)) {
+    rows.clear();
+    rows.shrink_to_fit();
+    const int c0 = bisect(a, std::move(parts[0]), levels - 1, options);
+    const int c1 = bisect(a, std::move(parts[1]), levels - 1, options);
+    Node node;
+    node.rows = std::move(parts[2]);
+    node.children[0] = c0;
+    node.children[1] = c1;
+    node.first = nodes_[static_cast<std::size_t>(c0)].first;
+    node.height = 1 + std::max(nodes_[static_cast<std::size_t>(c0)].height, nodes_[static_cast<std::size_t>(c1)].height);
+    nodes_.push_back(std::move(node));
+    const int id = static_cast<int>(nodes_.size()) - 1;
+    nodes_[static_cast<std::size_t>(c0)].parent = nodes_[static_cast<std::size_t>(c1)].parent = id;
+    return id;
   }
   Node node;
   node.rows = std::move(rows);
   node.first = static_cast<int>(nodes_.size());
   nodes_.push_back(std::move(node));
   return static_cast<int>(nodes_.size()) - 1;
+}
+
+// The domain k becomes nodes k and k + 1 (its two parts) and k + 2 (their separator, in k's place below
+// its parent); the nodes after k move two places on.
+bool SeparatorTree::refine(const Eigen::SparseMatrix<double>& a, int k, const Options& options) {
+  const auto uk = static_cast<std::size_t>(k);
+  std::vector<int> parts[3];
+  if (!nodes_[uk].domain() || !bisects(a, nodes_[uk].rows, options, parts)) return false;
+  auto moved = [k](int t) { return t < k ? t : t + 2; };
+  for (Node& node : nodes_) {
+    for (int& c : node.children)
+      if (c >= 0) c = moved(c);
+    if (node.parent >= 0) node.parent = moved(node.parent);
+    if (node.first > k) node.first += 2;
+  }
+  Node separator = std::move(nodes_[uk]);
+  separator.rows = std::move(parts[2]);
+  separator.children[0] = k;
+  separator.children[1] = k + 1;
+  Node halves[2];
+  for (int i = 0; i < 2; ++i) {
+    halves[i].rows = std::move(parts[i]);
+    halves[i].first = k + i;
+    halves[i].parent = k + 2;
+  }
+  nodes_[uk] = std::move(separator);
+  nodes_.insert(nodes_.begin() + k, std::make_move_iterator(halves), std::make_move_iterator(halves + 2));
+  for (Node& node : nodes_)  // postorder: children before their parent
+    if (!node.domain())
+      node.height = 1 + std::max(nodes_[static_cast<std::size_t>(node.children[0])].height,
+                                 nodes_[static_cast<std::size_t>(node.children[1])].height);
+  number();
+  update_boundaries(a);
+  return true;
 }
 
 void SeparatorTree::number() {

@@ -44,6 +44,11 @@ class SeparatorTree {
   bool divides(const Eigen::SparseMatrix<double>& a) const;
   /// The boundaries for `a`'s pattern (build() computes them).
   void update_boundaries(const Eigen::SparseMatrix<double>& a);
+  /// Bisects the domain `node` once more (the rule of build()'s bisections), where that serves: its two parts
+  /// become domains below a new separator in its place. The nodes are numbered anew (in postorder, the two
+  /// parts and the separator where the domain was, the nodes after it two places on), and the boundaries
+  /// are made for `a`'s pattern; false (the tree as it was) where the bisection does not serve.
+  bool refine(const Eigen::SparseMatrix<double>& a, int node, const Options& options);
   void clear() { nodes_.clear(), node_of_.clear(), position_.clear(); }
 
   bool empty() const { return nodes_.empty(); }
@@ -58,6 +63,8 @@ class SeparatorTree {
   long separator_rows() const;
 
  private:
+  static bool bisects(const Eigen::SparseMatrix<double>& a, const std::vector<int>& rows, const Options& options,
+                      std::vector<int> (&parts)[3]);
   int bisect(const Eigen::SparseMatrix<double>& a, std::vector<int> rows, int levels, const Options& options);
   void number();
 

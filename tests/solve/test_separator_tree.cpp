@@ -30,12 +30,8 @@ std::set<int> subtree_rows(const SeparatorTree& tree, int t) {
   return rows;
 }
 
-TEST(SeparatorTree, DividesTheGraphAndBoundsEachSubtree) {
-  const SpMat a = spd(1);
-  SeparatorTree tree;
-  ASSERT_TRUE(tree.build(a, {.levels = 3, .min_rows = 1000, .max_separator = 5000}));
-  EXPECT_EQ(tree.domains(), 8);
-  EXPECT_EQ(tree.nodes().size(), 15u);
+// The tree divides a's graph, numbers the rows by a permutation, and gives every node its boundary.
+void expect_tree_of(const SpMat& a, const SeparatorTree& tree) {
   EXPECT_TRUE(tree.divides(a));
   // every row in one node; positions a permutation
   std::vector<int> positions;
@@ -56,6 +52,31 @@ TEST(SeparatorTree, DividesTheGraphAndBoundsEachSubtree) {
                                [&](int x, int y) { return tree.position(x) < tree.position(y); }));
     for (const int r : boundary) EXPECT_TRUE(tree.above(tree.node_of(r), t));
   }
+  // postorder: a node's subtree is [first, node], its children's subtrees within it
+  for (int t = 0; t < static_cast<int>(tree.nodes().size()); ++t) {
+    const SeparatorTree::Node& node = tree.nodes()[static_cast<std::size_t>(t)];
+    if (node.domain()) {
+      EXPECT_EQ(node.first, t);
+      EXPECT_EQ(node.height, 0);
+      continue;
+    }
+    const SeparatorTree::Node& c0 = tree.nodes()[static_cast<std::size_t>(node.children[0])];
+    EXPECT_EQ(node.children[1], t - 1);
+    EXPECT_EQ(node.children[0] + 1, tree.nodes()[static_cast<std::size_t>(t - 1)].first);
+    EXPECT_EQ(node.first, c0.first);
+    EXPECT_EQ(c0.parent, t);
+    EXPECT_EQ(tree.nodes()[static_cast<std::size_t>(t - 1)].parent, t);
+    EXPECT_EQ(node.height, 1 + std::max(c0.height, tree.nodes()[static_cast<std::size_t>(t - 1)].height));
+  }
+}
+
+TEST(SeparatorTree, DividesTheGraphAndBoundsEachSubtree) {
+  const SpMat a = spd(1);
+  SeparatorTree tree;
+  ASSERT_TRUE(tree.build(a, {.levels = 3, .min_rows = 1000, .max_separator = 5000}));
+  EXPECT_EQ(tree.domains(), 8);
+  EXPECT_EQ(tree.nodes().size(), 15u);
+  expect_tree_of(a, tree);
   // an entry joining two domains of different halves no longer fits the tree
   const auto& nodes = tree.nodes();
   const int first = nodes.front().rows.front(), last = nodes[nodes.size() - 2].rows.front();
@@ -63,6 +84,30 @@ TEST(SeparatorTree, DividesTheGraphAndBoundsEachSubtree) {
   joined.coeffRef(first, last) = joined.coeffRef(last, first) = -0.01;
   joined.makeCompressed();
   EXPECT_FALSE(tree.divides(joined));
+}
+
+// A domain bisected once more: two domains and a separator in its place, the nodes after it renumbered.
+TEST(SeparatorTree, ADomainBisectedAgain) {
+  const SpMat a = spd(1);
+  const SeparatorTree::Options options{.levels = 2, .min_rows = 1000, .max_separator = 5000};
+  SeparatorTree tree;
+  ASSERT_TRUE(tree.build(a, options));
+  ASSERT_EQ(tree.nodes().size(), 7u);
+  const std::vector<int> third = tree.nodes()[3].rows;  // the second subtree's first domain
+  ASSERT_TRUE(tree.nodes()[3].domain());
+  ASSERT_TRUE(tree.refine(a, 3, options));
+  ASSERT_EQ(tree.nodes().size(), 9u);
+  EXPECT_EQ(tree.domains(), 5);
+  const auto& nodes = tree.nodes();
+  EXPECT_FALSE(nodes[5].domain());
+  std::vector<int> rows = nodes[3].rows;  // the two parts and their separator hold the domain's rows
+  rows.insert(rows.end(), nodes[4].rows.begin(), nodes[4].rows.end());
+  rows.insert(rows.end(), nodes[5].rows.begin(), nodes[5].rows.end());
+  std::sort(rows.begin(), rows.end());
+  EXPECT_EQ(rows, third);
+  EXPECT_EQ(nodes[8].height, 3);
+  expect_tree_of(a, tree);
+  EXPECT_FALSE(tree.refine(a, 5, options));  // a separator
 }
 
 // The split solver with `levels` levels for matrices from 1 000 unknowns on, with `threads` threads.
@@ -220,6 +265,47 @@ TEST(SplitLevels, TheThreadsSetTheDomains) {
     solver->analyze(a);
     EXPECT_EQ(cholmod_split_domains(*solver), domains) << threads << " threads";
   }
+}
+
+// spd(1) with the rows of its grid's 16 x 16 corner joined to each other (-1e-4 apiece: still diagonally
+// dominant), a dense block whose elimination holds most of the flops of the domain it lies in: two halves
+// of 11.6 and 6.2 MFlop (65 %, where the split still serves: below 75 %), four domains of 16.2 MFlop with
+// the largest 9.0 (more than twice an even share on 4 threads, 8.1). A larger block leaves the two halves
+// beyond 75 %.
+SpMat with_dense_corner() {
+  SpMat a = spd(1);
+  std::vector<int> corner;
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j) corner.push_back(i * 100 + j);
+  for (const int r : corner)
+    for (const int c : corner)
+      if (r != c && a.coeff(r, c) == 0.0) a.coeffRef(r, c) = -1e-4;
+  a.makeCompressed();
+  return a;
+}
+
+// With the depth from the threads (levels 0), a domain with more than twice an even share of the domains'
+// flops is bisected again: on 4 threads the corner's domain, so that there are 5 domains (the largest then
+// 6.6 of 15.4 MFlop), and the solution is still the whole factorisation's. On 2 threads no domain can hold
+// twice an even share; a depth given keeps its tree.
+TEST(SplitLevels, AHeavyDomainIsBisectedAgain) {
+  const SpMat a = with_dense_corner();
+  auto two = split_solver(0, 2);
+  two->analyze(a);
+  EXPECT_EQ(cholmod_split_domains(*two), 2) << two->analysis_summary();
+  auto fixed = split_solver(2, 4);  // a depth given: the tree as it is
+  fixed->analyze(a);
+  EXPECT_EQ(cholmod_split_domains(*fixed), 4) << fixed->analysis_summary();
+  auto solver = split_solver(0, 4);
+  solver->analyze(a);
+  EXPECT_GT(cholmod_split_domains(*solver), 4) << solver->analysis_summary();
+  ASSERT_TRUE(solver->factorize(a));
+  const Eigen::MatrixXd b = Eigen::VectorXd::LinSpaced(a.rows(), -2.0, 1.0);
+  EXPECT_LT(relative(solver->solve_columns(b), whole_solve(a, b)), 1e-14);
+  std::vector<int> order = cholmod_pivot_order(*solver);
+  std::sort(order.begin(), order.end());
+  for (int r = 0; r < a.rows(); ++r) ASSERT_EQ(order[static_cast<std::size_t>(r)], r);
+  omp_set_num_threads(2);
 }
 
 // The last place where two pivot orders differ (-1 where they are equal).
