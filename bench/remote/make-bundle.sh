@@ -7,9 +7,11 @@
 # they and Open MPI's launcher load except glibc's, OpenBLAS's OpenMP build in lib-openblas-openmp/ where
 # libopenblas0-openmp is installed (chosen per run by LD_LIBRARY_PATH), and Open MPI's run-time files
 # (components, help texts, settings), which bench/remote/scale.sh puts back at the paths Debian's Open MPI
-# looks for them; xz and its library beside it, for a machine without xz.
+# looks for them; xz and its library beside it, for a machine without xz. With STATE=DIR, the checkpoint
+# of an unfinished run of examples/bending.yaml in DIR and its history.csv (for scale.sh's part 9) go in as
+# state/.
 #
-#   bash bench/remote/make-bundle.sh [OUTPUT = devbundle/bundle.tar.xz]
+#   [STATE=DIR] bash bench/remote/make-bundle.sh [OUTPUT = devbundle/bundle.tar.xz]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 out=${1:-devbundle/bundle.tar.xz}
@@ -51,6 +53,11 @@ fi
 # Open MPI's and PMIx's run-time trees, at their absolute paths (headers left out).
 tar -C / -cf "$stage/bundle/system/openmpi.tar" --exclude='*/include' \
   "${multiarch#/}/openmpi" "${multiarch#/}/pmix2" usr/share/openmpi etc/openmpi
+
+if [ -n "${STATE:-}" ]; then
+  mkdir -p "$stage/bundle/state"
+  cp "$STATE/checkpoint.bin" "$STATE/history.csv" "$stage/bundle/state/"
+fi
 
 mkdir -p "$(dirname "$out")/xz"
 tar -C "$stage" -cJf "$out" bundle

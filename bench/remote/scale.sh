@@ -25,6 +25,11 @@
 #      thread at 16 threads: an evaluation of the quarter's model with its tangent (bench_assembly_threads,
 #      5 rounds) with each, then the quarter's three steps by bench_newton_breakdown with one per thread
 #      (part 5's q3-bd-t16 is the same with one arena).
+#   9. (only when PARTS names it, and the bundle has a state: make-bundle.sh's STATE) the quarter's tangent
+#      at a late state, where the soft windows' dense blocks have gathered in a few domains: the split
+#      Cholesky as the case makes it (bisecting a heavy domain again) and with the plain tree of as many
+#      domains as threads (bench_linear_solver, cholmod-split against cholmod-split-L, two rounds each) at
+#      16, 8 and 4 threads, and at 2 (where the two are the same).
 # PARTS (default "1 2 3") picks the parts. Every run stops at DEADLINE seconds (default 560) from the start,
 # so that what was measured comes back when the machine's time runs out; each run's summary line is printed
 # as it ends, and the runs' logs are packed into $OUT/runs.tar.gz after each part. SMOKE=1 runs the same
@@ -235,6 +240,20 @@ if part 8; then
       timeout -k 5 "$limit" bench_assembly_threads "$work/q3.yaml" --threads 16 --rounds 5 2>&1 | tee -a "$log"
   done
   breakdown q3-bd-t16-arenas 16 100 "$work/q3.yaml" GLIBC_TUNABLES="$tunables"
+  pack
+fi
+if part 9; then
+  say "== 9. the quarter's tangent at a late state: the split as the case makes it against the plain tree"
+  if [ -f "$work/bundle/state/checkpoint.bin" ]; then
+    for tl in 16:4 8:3 4:2 2:1; do
+      limit=$(( $(left) < 150 ? $(left) : 150 ))
+      [ "$limit" -ge 20 ] && LD_LIBRARY_PATH="$libs" timeout -k 5 "$limit" bench_linear_solver examples/bending.yaml \
+        --threads "${tl%:*}" --solver cholmod-split --solver "cholmod-split-${tl#*:}" --rounds 2 \
+        --state "$work/bundle/state" 2>&1 | tee -a "$log"
+    done
+  else
+    say "the bundle has no state/ (make-bundle.sh with STATE=DIR)"
+  fi
   pack
 fi
 say "done after $((SECONDS - start)) s"
