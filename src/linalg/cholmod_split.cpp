@@ -9,7 +9,6 @@
 #include <cmath>
 #include <cstdio>
 #include <numeric>
-#include <optional>
 #include <string>
 
 #include "linalg/cholmod_domain.hpp"
@@ -212,7 +211,7 @@ class CholmodSplitSolver final : public LinearSolver {
       tree_.update_boundaries(a);
     else if (!tree_.build(a, tree_options))
       return false;
-    if (!set_domains(a, last, {})) return false;
+    if (!set_domains(a, last, false)) return false;
     // With the depth from the threads, a domain with more than refine_above times an even share of the
     // domains' work on the threads is bisected again, the heaviest first, at most as many times as there
     // are threads.
@@ -226,7 +225,7 @@ class CholmodSplitSolver final : public LinearSolver {
       if (!tree_.refine(a, node, tree_options)) break;
       std::vector<std::unique_ptr<CholmodDomain>> analysed = std::move(domains_);
       clear_parts();
-      if (!set_domains(a, analysed, node)) return false;
+      if (!set_domains(a, analysed, true)) return false;
     }
     std::vector<double> work;
     for (const auto& d : domains_) work.push_back(d->flops);
@@ -241,10 +240,11 @@ class CholmodSplitSolver final : public LinearSolver {
     const double total = std::accumulate(work.begin(), work.end(), 0.0);
     return makespan(work, threads_) <= options_.max_work_share * total;
   }
-  // The tree's domains and fronts; a domain of `last` with the same rows serves again (the others are
-  // freed first). The domains are analysed side by side, those of `last` again unless `refined` holds the
-  // tree node whose bisection made the two new ones (a refinement: the others were analysed for `a`).
-  bool set_domains(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last, std::optional<int> refined) {
+  // The tree's domains and fronts, the domains analysed side by side. A domain of `last` with the same rows
+  // serves again (the others are freed first): after the last analysis (its numeric factor freed) it keeps
+  // its analysis where its pattern is the same (CholmodDomain::analyse); after a refinement of the tree
+  // (`refinement`: `last` was analysed for `a`) it is not analysed again.
+  bool set_domains(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last, bool refinement) {
     const auto& nodes = tree_.nodes();
     part_of_.assign(nodes.size(), -1);
     for (std::size_t t = 0; t < nodes.size(); ++t) {
@@ -266,7 +266,7 @@ class CholmodSplitSolver final : public LinearSolver {
       d->rows = std::move(rows);
       d->interior = static_cast<int>(node.rows.size());
       domains_.push_back(std::move(d));
-      if (!again || !refined) to_analyse.push_back(static_cast<int>(t));
+      if (!again || !refinement) to_analyse.push_back(static_cast<int>(t));
     }
     last.clear();
     if (!side_by_side(to_analyse, threads_, [&](int d) { return domains_[static_cast<std::size_t>(d)]->analyse(a); }))
