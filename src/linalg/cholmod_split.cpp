@@ -214,7 +214,8 @@ class CholmodSplitSolver final : public LinearSolver {
     if (!set_domains(a, last, false)) return false;
     // With the depth from the threads, a domain with more than refine_above times an even share of the
     // domains' work on the threads is bisected again, the heaviest first, at most as many times as there
-    // are threads.
+    // are threads in one analysis (a kept tree keeps its refinements, and may take more as the work
+    // gathers). A failed analysis of the new domains leaves the matrix to the whole factorisation.
     for (int refined = 0; options_.levels == 0 && refined < threads_; ++refined) {
       const auto heaviest = std::max_element(domains_.begin(), domains_.end(),
                                              [](const auto& x, const auto& y) { return x->flops < y->flops; });
@@ -246,6 +247,9 @@ class CholmodSplitSolver final : public LinearSolver {
   // (`refinement`: `last` was analysed for `a`) it is not analysed again.
   bool set_domains(const SpMat& a, std::vector<std::unique_ptr<CholmodDomain>>& last, bool refinement) {
     const auto& nodes = tree_.nodes();
+    domains_.clear();
+    domain_nodes_.clear();
+    front_nodes_.clear();
     part_of_.assign(nodes.size(), -1);
     for (std::size_t t = 0; t < nodes.size(); ++t) {
       std::vector<int>& list = nodes[t].domain() ? domain_nodes_ : front_nodes_;

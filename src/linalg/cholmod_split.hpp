@@ -45,9 +45,9 @@ struct CholmodSplitOptions {
   double max_work_share = 0.75;
   // With `levels` 0, a domain whose CHOLMOD analysis counts more than refine_above times an even share of
   // the domains' flops on the threads (their sum over the threads' count) is bisected once more, the
-  // heaviest first, as long as one is (at most once per thread): where the work gathers (the soft windows'
-  // dense blocks), the domain holding it would otherwise set the time. At 2 threads no domain can hold
-  // twice an even share.
+  // heaviest first, as long as one is (at most once per thread in one analysis; a kept tree keeps its
+  // refinements): where the work gathers (the soft windows' dense blocks), the domain holding it would
+  // otherwise set the time. At 2 threads no domain can hold twice an even share.
   double refine_above = 2.0;
   int levels = 0;
   // The last domain still being factorised gets the BLAS threads of those that have finished. Off by

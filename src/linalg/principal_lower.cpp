@@ -1,6 +1,7 @@
 #include "linalg/principal_lower.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 
 namespace fibrane::solve {
@@ -57,7 +58,8 @@ PrincipalLower principal_lower(const Eigen::SparseMatrix<double>& a, const std::
   std::vector<int> local(static_cast<std::size_t>(a.rows()), -1);
   for (int i = 0; i < n; ++i) local[static_cast<std::size_t>(rows[static_cast<std::size_t>(i)])] = i;
   PrincipalLower out;
-  if (std::is_sorted(rows.begin(), rows.end()) && ascending_principal_lower(a, rows, local, out)) return out;
+  const bool ascending = std::adjacent_find(rows.begin(), rows.end(), std::greater_equal<>()) == rows.end();
+  if (ascending && ascending_principal_lower(a, rows, local, out)) return out;
   const int* outer = a.outerIndexPtr();
   const int* inner = a.innerIndexPtr();
   auto for_each_entry = [&](auto&& visit) {  // visit(local row, local column, index in a), row >= column

@@ -89,7 +89,7 @@ int SeparatorTree::bisect(const Eigen::SparseMatrix<double>& a, std::vector<int>
 bool SeparatorTree::refine(const Eigen::SparseMatrix<double>& a, int k, const Options& options) {
   const auto uk = static_cast<std::size_t>(k);
   std::vector<int> parts[3];
-  if (!nodes_[uk].domain() || !bisects(a, nodes_[uk].rows, options, parts)) return false;
+  if (k < 0 || uk >= nodes_.size() || !nodes_[uk].domain() || !bisects(a, nodes_[uk].rows, options, parts)) return false;
   auto moved = [k](int t) { return t < k ? t : t + 2; };
   for (Node& node : nodes_) {
     for (int& c : node.children)

@@ -95,6 +95,11 @@ TEST(SeparatorTree, ADomainBisectedAgain) {
   ASSERT_EQ(tree.nodes().size(), 7u);
   const std::vector<int> third = tree.nodes()[3].rows;  // the second subtree's first domain
   ASSERT_TRUE(tree.nodes()[3].domain());
+  const std::vector<SeparatorTree::Node> before = tree.nodes();
+  const SeparatorTree::Options too_small{.levels = 2, .min_rows = 10'000, .max_separator = 5000};
+  EXPECT_FALSE(tree.refine(a, 3, too_small));  // a piece below min_rows: the tree as it was
+  ASSERT_EQ(tree.nodes().size(), 7u);
+  EXPECT_EQ(tree.nodes()[3].rows, third);
   ASSERT_TRUE(tree.refine(a, 3, options));
   ASSERT_EQ(tree.nodes().size(), 9u);
   EXPECT_EQ(tree.domains(), 5);
@@ -107,7 +112,22 @@ TEST(SeparatorTree, ADomainBisectedAgain) {
   EXPECT_EQ(rows, third);
   EXPECT_EQ(nodes[8].height, 3);
   expect_tree_of(a, tree);
+  // the nodes outside the refined domain keep their rows and boundaries (the split solver reuses their
+  // domains' analyses): 0-2 where they were, 4-6 two places on
+  for (const auto& [old_node, new_node] : {std::pair{0, 0}, {1, 1}, {2, 2}, {4, 6}, {5, 7}, {6, 8}}) {
+    EXPECT_EQ(nodes[static_cast<std::size_t>(new_node)].rows, before[static_cast<std::size_t>(old_node)].rows) << old_node;
+    EXPECT_EQ(nodes[static_cast<std::size_t>(new_node)].boundary, before[static_cast<std::size_t>(old_node)].boundary) << old_node;
+  }
   EXPECT_FALSE(tree.refine(a, 5, options));  // a separator
+  EXPECT_FALSE(tree.refine(a, 9, options));  // no such node
+  // the first domain, and one of the new halves again
+  ASSERT_TRUE(tree.refine(a, 0, options));
+  EXPECT_EQ(tree.domains(), 6);
+  expect_tree_of(a, tree);
+  ASSERT_TRUE(tree.refine(a, 6, options));  // the second half of the domain refined above (4, two places on)
+  EXPECT_EQ(tree.domains(), 7);
+  expect_tree_of(a, tree);
+  EXPECT_EQ(tree.nodes().back().parent, -1);
 }
 
 // The split solver with `levels` levels for matrices from 1 000 unknowns on, with `threads` threads.
@@ -298,7 +318,8 @@ TEST(SplitLevels, AHeavyDomainIsBisectedAgain) {
   EXPECT_EQ(cholmod_split_domains(*fixed), 4) << fixed->analysis_summary();
   auto solver = split_solver(0, 4);
   solver->analyze(a);
-  EXPECT_GT(cholmod_split_domains(*solver), 4) << solver->analysis_summary();
+  EXPECT_EQ(cholmod_split_domains(*solver), 5) << solver->analysis_summary();
+  EXPECT_EQ(cholmod_split_kept_analyses(*solver).second, 6);  // 4, then the two new domains alone
   ASSERT_TRUE(solver->factorize(a));
   const Eigen::MatrixXd b = Eigen::VectorXd::LinSpaced(a.rows(), -2.0, 1.0);
   EXPECT_LT(relative(solver->solve_columns(b), whole_solve(a, b)), 1e-14);
