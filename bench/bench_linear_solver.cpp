@@ -5,7 +5,8 @@
 // KIND: a kind of make_linear_solver (auto, cholmod, ldlt, mumps, mumps-lu, umfpack, umfpack64; "auto" as fibrane builds it for
 // the case, i.e. with the symmetry probe for a model with point moments), cholmod-split (CHOLMOD's LL^T in domains
 // below METIS's separators where the matrix is large enough, as steps.split makes it: as many domains as threads),
-// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-split-shared (the last
+// cholmod-split-L (the same with L levels of separators, 2^L domains), cholmod-split-refine-F (a domain bisected
+// again above F times an even share of the work: CholmodSplitOptions::refine_above), cholmod-split-shared (the last
 // domain gets the finished ones' BLAS threads: CholmodSplitOptions::share_idle_cores), cholmod-whole (= cholmod),
 // "symmetric-auto" (the symmetric
 // chain alone), or MUMPS with another ordering or block low-rank: mumps-amd, mumps-amf, mumps-scotch,
@@ -120,6 +121,8 @@ std::unique_ptr<LinearSolver> make_solver(const std::string& kind, const fibrane
   }
   if (kind == "cholmod-split") return fibrane::solve::make_cholmod_split_llt();
   if (kind == "cholmod-split-shared") return fibrane::solve::make_cholmod_split_llt({.share_idle_cores = true});
+  if (kind.rfind("cholmod-split-refine-", 0) == 0)  // cholmod-split-refine-F: CholmodSplitOptions::refine_above F
+    return fibrane::solve::make_cholmod_split_llt({.refine_above = std::stod(kind.substr(21))});
   if (kind.rfind("cholmod-split-", 0) == 0)  // cholmod-split-L: L levels of nested dissection
     return fibrane::solve::make_cholmod_split_llt({.levels = std::stoi(kind.substr(14))});
   if (kind == "cholmod-whole") return fibrane::solve::make_cholmod_llt();
